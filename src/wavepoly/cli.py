@@ -1,0 +1,248 @@
+"""The ``wavepoly`` command: a thin shell over the public API.
+
+Exit codes: 0 success, 1 bad data (unreadable file, NaN, too few points...), 2 bad usage
+(unknown option, a tolerance <= 0...). Errors are one line on stderr; ``--debug`` shows the
+traceback.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+from typing import Annotated
+
+import numpy as np
+import typer
+
+from . import __version__
+from .errors import DataError, ParameterError, WavepolyError
+
+app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
+                  help="Concise polygons within a guaranteed tolerance from scanned points "
+                       "(B-spline wavelets).")
+_state = {"debug": False}
+
+FormatOpt = Annotated[str | None, typer.Option("--format", "-f",
+                                               help="Input format, overriding the extension.")]
+ColumnsOpt = Annotated[str | None, typer.Option(
+    "--columns", help="0-based coordinate columns of text files, e.g. '0,1' or '1,2,3'.")]
+
+
+def _version(value: bool) -> None:
+    if value:
+        typer.echo(f"wavepoly {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def main_options(
+    debug: Annotated[bool, typer.Option("--debug", help="Show tracebacks on errors.")] = False,
+    version: Annotated[bool, typer.Option("--version", callback=_version, is_eager=True,
+                                          help="Print the version and exit.")] = False,
+) -> None:
+    _state["debug"] = debug
+
+
+def _columns(text: str | None) -> tuple[int, ...] | None:
+    if text is None:
+        return None
+    try:
+        return tuple(int(c) for c in text.replace(" ", "").split(","))
+    except ValueError:
+        raise ParameterError(f"--columns takes numbers like '0,1', got {text!r}") from None
+
+
+def _read(path: Path, fmt: str | None, columns: str | None) -> np.ndarray:
+    from .io import read_points
+
+    return read_points(path, fmt=fmt, columns=_columns(columns))
+
+
+@app.command()
+def info(path: Annotated[Path, typer.Argument(help="Point file.")], fmt: FormatOpt = None,
+         columns: ColumnsOpt = None) -> None:
+    """Point count, dimensions, bounding box and a suggested tolerance."""
+    from .io import detect_format
+    from .ordering import median_spacing
+
+    pts = _read(path, fmt, columns)
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    spacing = median_spacing(pts[:, :2]) if len(pts) > 1 else 0.0
+    typer.echo(f"file:       {path}")
+    typer.echo(f"format:     {fmt or detect_format(path)}")
+    typer.echo(f"points:     {len(pts)}")
+    typer.echo(f"dimensions: {pts.shape[1]}")
+    axes = "xyz"[: pts.shape[1]]
+    for k, a in enumerate(axes):
+        typer.echo(f"{a}:          {lo[k]:.6g} .. {hi[k]:.6g}  (extent {hi[k] - lo[k]:.6g})")
+    typer.echo(f"spacing:    {spacing:.4g} (median nearest-neighbour distance in x, y)")
+    typer.echo(f"suggested tolerance: {2 * spacing:.3g} (twice the spacing)")
+
+
+@app.command()
+def order(
+    path: Annotated[Path, typer.Argument(help="Point file (2D, or planar 3D).")],
+    radius: Annotated[float, typer.Option("--radius", "-r", help="Neighbourhood radius.")],
+    plot: Annotated[Path | None, typer.Option(help="Write a figure of the ordering.")] = None,
+    seed: int = 0, fmt: FormatOpt = None, columns: ColumnsOpt = None,
+) -> None:
+    """Order and thin unorganized points into contours (paper §2)."""
+    from .io.readers import as_planar
+    from .ordering import order_points, ordering_summary
+
+    pts = as_planar(_read(path, fmt, columns), str(path))
+    ordering = order_points(pts, radius, seed=seed)
+    typer.echo(ordering_summary(ordering, len(pts)))
+    for note in ordering.notes:
+        typer.echo(f"note: {note}")
+    for k, c in enumerate(ordering.contours):
+        typer.echo(f"contour {k}: {'closed' if c.closed else 'open'}, {len(c.members)} points "
+                   f"-> {len(c.points)} ordered")
+    if plot:
+        from .plot import plot_ordering, save_figure
+
+        save_figure(plot_ordering(pts, ordering), plot)
+        typer.echo(f"wrote {plot}")
+
+
+@app.command(name="fit")
+def fit_command(
+    path: Annotated[Path, typer.Argument(help="Point file (2D, or planar 3D).")],
+    tolerance: Annotated[float, typer.Option("--tolerance", "-t",
+                                             help="Shape tolerance (the points' units).")],
+    output: Annotated[Path, typer.Option("--output", "-o",
+                                         help="Polygons: .geojson .svg .dxf .csv")],
+    relative_tolerance: Annotated[str, typer.Option(
+        help="Relative shape error threshold (eq. 7), or 'auto'.")] = "0.05",
+    radius: Annotated[float | None, typer.Option(help="Ordering radius (default: tolerance).")
+                      ] = None,
+    plot: Annotated[Path | None, typer.Option(help="Write a figure of the fit (PNG).")] = None,
+    report: Annotated[Path | None, typer.Option(help="Write a JSON report.")] = None,
+    seed: int = 0, fmt: FormatOpt = None, columns: ColumnsOpt = None,
+) -> None:
+    """Fit concise polygons within the tolerance (ordering, wavelets, reconstruction)."""
+    from .fit import fit
+    from .io import write_polygons
+    from .io.readers import as_planar
+    from .io.writers import POLYGON_FORMATS
+
+    if output.suffix.lstrip(".").lower() not in POLYGON_FORMATS:
+        raise ParameterError(f"{output}: output must end in one of "
+                             f"{', '.join('.' + f for f in POLYGON_FORMATS)}")
+    rel = relative_tolerance if relative_tolerance == "auto" else _number(
+        relative_tolerance, "--relative-tolerance")
+    pts = as_planar(_read(path, fmt, columns), str(path))
+    with _progress("fitting contours") as progress:
+        result = fit(pts, tolerance, relative_tolerance=rel, radius=radius, seed=seed,
+                     progress=progress)
+    write_polygons(output, result)
+    _summarize(result)
+    typer.echo(f"wrote {output}")
+    if report:
+        from .io.atomic import write_text_atomic
+
+        write_text_atomic(report, json.dumps(fit_report(result, str(path)), indent=2))
+        typer.echo(f"wrote {report}")
+    if plot:
+        from .plot import plot_fit, save_figure
+
+        save_figure(plot_fit(pts, result), plot)
+        typer.echo(f"wrote {plot}")
+
+
+def _number(text: str, name: str) -> float:
+    try:
+        return float(text)
+    except ValueError:
+        raise ParameterError(f"{name} must be a number or 'auto', got {text!r}") from None
+
+
+def fit_report(result, source: str) -> dict:
+    """The JSON report of a fit: per contour figures, timings, outliers and notes."""
+    from dataclasses import asdict
+
+    return {
+        "input": source, "points": result.n_points, "tolerance": result.tolerance,
+        "max_error": result.max_error, "mean_error": result.mean_error,
+        "contours": [{**asdict(r), "mscs_per_level": {str(k): v for k, v in
+                                                       r.mscs_per_level.items()}}
+                     for r in result.reports],
+        "vertices": result.n_vertices, "outliers": len(result.outliers),
+        "outlier_indices": result.outliers.tolist(), "timings": result.timings,
+        "notes": list(result.notes),
+    }
+
+
+def _summarize(result) -> None:
+    for k, (c, r) in enumerate(zip(result.contours, result.reports)):
+        typer.echo(f"contour {k}: {'closed' if c.closed else 'open  '} {r.input_points:7d} points"
+                   f" -> {r.ordered_points:6d} ordered -> {r.wavelet_vertices:5d} wavelet -> "
+                   f"{r.final_vertices:4d} vertices, max error {c.max_error:.4g}")
+    typer.echo(f"{result.n_points} points -> {len(result.contours)} contours, "
+               f"{result.n_vertices} vertices, max error {result.max_error:.4g} "
+               f"(tolerance {result.tolerance:.4g}), {len(result.outliers)} outliers")
+    for note in result.notes:
+        typer.echo(f"note: {note}")
+
+
+class _progress:
+    """A rich progress bar on a terminal for long work; silent otherwise."""
+
+    def __init__(self, label: str):
+        self.label = label
+        self.bar = None
+        self.task = None
+
+    def __enter__(self):
+        if not sys.stderr.isatty():
+            return None
+        from rich.progress import Progress
+
+        self.bar = Progress(transient=True)
+        self.bar.start()
+        self.task = self.bar.add_task(self.label, total=None)
+        return self.update
+
+    def update(self, done: int, total: int) -> None:
+        self.bar.update(self.task, completed=done, total=total)
+
+    def __exit__(self, *exc) -> None:
+        if self.bar is not None:
+            self.bar.stop()
+
+
+@app.command()
+def demo(out: Annotated[Path, typer.Option("--out", help="Output folder.")] = Path(
+        "wavepoly-demo")) -> None:
+    """Fit built-in glyph outlines (noisy scan-like samples) and write polygons and figures."""
+    from .demo import run_demo
+
+    run_demo(out, echo=typer.echo)
+
+
+def main() -> None:
+    """Entry point: run the app, turning wavepoly errors into one line and an exit code."""
+    try:
+        app(standalone_mode=False)
+    except WavepolyError as exc:
+        if _state["debug"]:
+            raise
+        typer.echo(f"error: {exc}", err=True)
+        sys.exit(2 if isinstance(exc, ParameterError) else 1)
+    except typer.Exit as exc:
+        sys.exit(exc.exit_code)
+    except typer.Abort:
+        typer.echo("aborted", err=True)
+        sys.exit(1)
+    except Exception as exc:  # usage errors of the (vendored) click, and anything unexpected
+        if hasattr(exc, "show") and isinstance(getattr(exc, "exit_code", None), int):
+            exc.show()
+            sys.exit(exc.exit_code)
+        if _state["debug"]:
+            raise
+        typer.echo(f"error: {type(exc).__name__}: {exc} (run with --debug for details)", err=True)
+        sys.exit(1)
+
+
+__all__ = ["app", "main", "DataError"]

@@ -1,0 +1,330 @@
+"""Point readers: every common scan format in, an (N, 2) or (N, 3) float64 array out.
+
+The format is chosen from the file extension unless ``fmt`` names it. Each reader raises
+`DataError` with a one-line message naming the file and the problem.
+"""
+
+from __future__ import annotations
+
+import gzip
+import re
+import warnings
+from collections.abc import Callable, Sequence
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import DataError
+from ..types import FloatArray
+
+TEXT_FORMATS = ("xyz", "xy", "txt", "csv", "pts", "p2d", "gtn", "xym", "asc")
+FORMATS = (*TEXT_FORMATS, "npy", "ply", "las", "laz", "pcd", "obj", "off", "carmen")
+#: Extensions whose columns are planar (x, y, then weights or indices that are not coordinates).
+_PLANAR = {"xy", "p2d", "gtn", "xym"}
+_SPLIT = re.compile(r"[,\s;]+")
+
+
+def detect_format(path: str | Path) -> str:
+    """The format name for ``path`` from its extension (``.log``, ``.log.gz``: CARMEN logs)."""
+    name = Path(path).name.lower()
+    if name.endswith((".log", ".log.gz")):
+        return "carmen"
+    ext = name.rsplit(".", 1)[-1] if "." in name else ""
+    if ext in FORMATS:
+        return ext
+    raise DataError(f"{path}: unknown point format '.{ext}' (known: {', '.join(FORMATS)}, log)")
+
+
+def read_points(
+    path: str | Path,
+    *,
+    fmt: str | None = None,
+    columns: Sequence[int] | None = None,
+) -> FloatArray:
+    """Read the points of a scan file.
+
+    Parameters
+    ----------
+    path : file to read.
+    fmt : format name overriding the extension, one of `FORMATS`.
+    columns : 0-based columns to use as coordinates (2 or 3 of them) in text and NumPy files;
+        by default the first 3 (the first 2 for planar formats such as ``.xy``, ``.p2d``, ``.gtn``).
+
+    Returns
+    -------
+    (N, 2) or (N, 3) float64 array of finite coordinates, N >= 2, not all identical.
+
+    Examples
+    --------
+    >>> pts = read_points("scan.xyz")                      # doctest: +SKIP
+    >>> pts = read_points("slice.csv", columns=(1, 2))     # doctest: +SKIP
+    """
+    path = Path(path)
+    if not path.exists():
+        raise DataError(f"{path}: no such file")
+    if path.is_dir():
+        raise DataError(f"{path}: is a directory, not a point file")
+    fmt = (fmt or detect_format(path)).lower()
+    if fmt not in FORMATS:
+        raise DataError(f"{path}: unknown format {fmt!r} (known: {', '.join(FORMATS)})")
+    if columns is not None:
+        columns = tuple(int(c) for c in columns)
+        if len(columns) not in (2, 3) or min(columns) < 0:
+            raise DataError(f"{path}: --columns needs 2 or 3 non-negative column numbers")
+    reader = _READERS.get(fmt, _read_text)
+    try:
+        points = reader(path, fmt, columns)
+    except DataError:
+        raise
+    except (OSError, ValueError, IndexError, KeyError, EOFError, UnicodeDecodeError) as exc:
+        raise DataError(f"{path}: cannot read as {fmt}: {_short(exc)}") from exc
+    except Exception as exc:  # third-party readers raise their own types on corrupt files
+        raise DataError(f"{path}: cannot read as {fmt}: {_short(exc)}") from exc
+    return validate_points(points, source=str(path))
+
+
+def validate_points(points: object, *, source: str = "points", min_points: int = 2) -> FloatArray:
+    """Check an array of coordinates and return it as contiguous float64 (N, 2|3).
+
+    Raises `DataError` for a wrong shape, no points, fewer than ``min_points``, NaN or
+    infinite values, or points that are all identical.
+    """
+    try:
+        arr = np.asarray(points, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise DataError(f"{source}: coordinates are not numeric") from None
+    if arr.ndim != 2 or arr.shape[1] not in (2, 3):
+        raise DataError(f"{source}: expected an (N, 2) or (N, 3) array, got shape {arr.shape}")
+    if len(arr) == 0:
+        raise DataError(f"{source}: contains no points")
+    bad = ~np.isfinite(arr).all(axis=1)
+    if bad.any():
+        first = int(np.flatnonzero(bad)[0])
+        raise DataError(f"{source}: {int(bad.sum())} point(s) have NaN or infinite coordinates "
+                        f"(first at row {first})")
+    if len(arr) < min_points:
+        raise DataError(f"{source}: only {len(arr)} point(s); at least {min_points} are needed")
+    if np.ptp(arr, axis=0).max() == 0.0:
+        raise DataError(f"{source}: all {len(arr)} points are identical")
+    return np.ascontiguousarray(arr)
+
+
+def _short(exc: BaseException) -> str:
+    text = str(exc).strip().splitlines()
+    return text[0] if text else type(exc).__name__
+
+
+def _select_columns(table: np.ndarray, fmt: str, columns: tuple[int, ...] | None,
+                    path: Path) -> np.ndarray:
+    if columns is not None:
+        if max(columns) >= table.shape[1]:
+            raise DataError(f"{path}: asked for column {max(columns)} but rows have "
+                            f"{table.shape[1]} columns")
+        return table[:, list(columns)]
+    if table.shape[1] < 2:
+        raise DataError(f"{path}: rows have {table.shape[1]} numeric column(s); need 2 or more")
+    ncols = 2 if fmt in _PLANAR else min(3, table.shape[1])
+    return table[:, :ncols]
+
+
+def _read_text(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndarray:
+    """Whitespace/comma separated columns; '#' comments, one header line, Hoppe and .gtn rows."""
+    rows: list[list[str]] = []
+    header_seen = False
+    with _open_text(path) as fh:
+        for lineno, raw in enumerate(fh, 1):
+            line = raw.split("#", 1)[0].strip()
+            if not line:
+                continue
+            tokens = [t for t in _SPLIT.split(line) if t]
+            if len(tokens[0]) == 1 and tokens[0].isalpha():  # Hoppe: 'p x y z' is a point
+                if tokens[0] == "p":
+                    rows.append(tokens[1:])
+                continue
+            if not _is_number(tokens[0]) or not all(_is_number(t) for t in tokens):
+                if not rows and not header_seen:
+                    header_seen = True  # one header line (e.g. 'x,y,z') is allowed
+                    continue
+                raise DataError(f"{path}: line {lineno} is not numeric: {line[:60]!r}")
+            rows.append(tokens)
+    if not rows:
+        raise DataError(f"{path}: contains no numeric rows")
+    if fmt == "gtn" or _looks_like_gtn(rows):
+        rows = [r[1:] for r in rows[1:]]  # 'count dim 0 0' header, then 'index x y' rows
+        if not rows:
+            raise DataError(f"{path}: contains no points after its count header")
+    width = min(len(r) for r in rows)
+    table = np.array([r[:width] for r in rows], dtype=np.float64)
+    return _select_columns(table, fmt, columns, path)
+
+
+def _looks_like_gtn(rows: list[list[str]]) -> bool:
+    """A .gtn table: first row 'count dim 0 0' with count == number of rows after it."""
+    first = rows[0]
+    if len(first) != 4 or len(rows) < 2 or not first[0].isdigit():
+        return False
+    return int(first[0]) == len(rows) - 1 and all(r[0].isdigit() for r in rows[1:3])
+
+
+def _is_number(token: str) -> bool:
+    try:
+        float(token)
+    except ValueError:
+        return False
+    return True
+
+
+def _open_text(path: Path):
+    if path.name.lower().endswith(".gz"):
+        return gzip.open(path, "rt", encoding="utf-8", errors="strict")
+    return open(path, encoding="utf-8", errors="strict")
+
+
+def _read_npy(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndarray:
+    arr = np.load(path, allow_pickle=False)
+    if arr.ndim != 2:
+        raise DataError(f"{path}: expected a 2D array, got shape {arr.shape}")
+    return _select_columns(arr.astype(np.float64), fmt, columns, path)
+
+
+def _read_ply(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndarray:
+    from plyfile import PlyData
+
+    with warnings.catch_warnings():  # plyfile warns on empty ASCII elements
+        warnings.simplefilter("ignore", UserWarning)
+        ply = PlyData.read(str(path))
+    if "vertex" not in ply:
+        raise DataError(f"{path}: PLY file has no 'vertex' element")
+    vertex = ply["vertex"].data
+    names = [n for n in ("x", "y", "z") if n in vertex.dtype.names]
+    if len(names) < 2:
+        raise DataError(f"{path}: PLY vertices have no x/y properties")
+    return np.column_stack([np.asarray(vertex[n], dtype=np.float64) for n in names])
+
+
+def _read_las(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndarray:
+    import laspy
+
+    las = laspy.read(str(path))
+    return np.column_stack([np.asarray(las.x), np.asarray(las.y), np.asarray(las.z)])
+
+
+_PCD_TYPES = {("F", 4): "<f4", ("F", 8): "<f8", ("I", 1): "<i1", ("I", 2): "<i2",
+              ("I", 4): "<i4", ("I", 8): "<i8", ("U", 1): "<u1", ("U", 2): "<u2",
+              ("U", 4): "<u4", ("U", 8): "<u8"}
+
+
+def _read_pcd(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndarray:
+    """Point Cloud Library's PCD (ASCII and binary); binary_compressed is refused clearly."""
+    raw = path.read_bytes()
+    header: dict[str, list[str]] = {}
+    offset = 0
+    for line in raw.split(b"\n"):
+        offset += len(line) + 1
+        text = line.decode("ascii", errors="replace").strip()
+        if not text or text.startswith("#"):
+            continue
+        key, *values = text.split()
+        header[key.upper()] = values
+        if key.upper() == "DATA":
+            break
+    else:
+        raise DataError(f"{path}: PCD header has no DATA line")
+    fields = header.get("FIELDS", [])
+    if not {"x", "y"} <= set(fields):
+        raise DataError(f"{path}: PCD has no x/y fields (fields: {' '.join(fields)})")
+    counts = [int(c) for c in header.get("COUNT", ["1"] * len(fields))]
+    npts = int(header.get("POINTS", ["0"])[0])
+    mode = header["DATA"][0].lower()
+    wanted = [f for f in ("x", "y", "z") if f in fields]
+    if mode == "ascii":
+        table = np.loadtxt(raw[offset:].decode("ascii").splitlines(), ndmin=2)
+        starts = np.cumsum([0, *counts[:-1]])
+        return table[:, [starts[fields.index(f)] for f in wanted]]
+    if mode == "binary":
+        dtype = np.dtype([(f, _PCD_TYPES[(t, int(s))], (c,)) if c > 1 else
+                          (f, _PCD_TYPES[(t, int(s))])
+                          for f, t, s, c in zip(fields, header["TYPE"], header["SIZE"], counts)])
+        if len(raw) - offset < npts * dtype.itemsize:
+            raise DataError(f"{path}: PCD binary data is truncated")
+        data = np.frombuffer(raw, dtype=dtype, count=npts, offset=offset)
+        return np.column_stack([data[f].astype(np.float64) for f in wanted])
+    raise DataError(f"{path}: PCD data mode '{mode}' is not supported "
+                    "(save it as ascii or binary)")
+
+
+def _read_obj(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndarray:
+    rows = []
+    with _open_text(path) as fh:
+        for line in fh:
+            if line.startswith("v "):
+                rows.append(line.split()[1:4])
+    if not rows:
+        raise DataError(f"{path}: OBJ file has no 'v' vertex lines")
+    return np.array(rows, dtype=np.float64)
+
+
+def _read_off(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndarray:
+    with _open_text(path) as fh:
+        lines = [ln.split("#", 1)[0].split() for ln in fh]
+    lines = [ln for ln in lines if ln]
+    if not lines or not lines[0][0].endswith("OFF"):
+        raise DataError(f"{path}: not an OFF file (no 'OFF' header)")
+    head = lines[0][1:] if len(lines[0]) > 1 else lines[1]
+    start = 1 if len(lines[0]) > 1 else 2
+    nverts = int(head[0])
+    rows = [ln[:3] for ln in lines[start:start + nverts]]
+    if len(rows) < nverts:
+        raise DataError(f"{path}: OFF file is truncated ({len(rows)} of {nverts} vertices)")
+    return np.array(rows, dtype=np.float64)
+
+
+def _read_carmen(path: Path, fmt: str, columns: tuple[int, ...] | None,
+                 max_range: float | None = None) -> np.ndarray:
+    """CARMEN log: every ``FLASER n r1..rn x y theta ...`` line becomes world points.
+
+    Beams span -90 deg .. +90 deg about the laser heading theta; readings at the sensor's maximum
+    (the largest range found in the log) and non-positive ones are no-returns and are dropped.
+    """
+    ranges, poses = [], []
+    with _open_text(path) as fh:
+        for line in fh:
+            if not line.startswith("FLASER"):
+                continue
+            tokens = line.split()
+            n = int(tokens[1])
+            ranges.append(np.array(tokens[2:2 + n], dtype=np.float64))
+            poses.append(np.array(tokens[2 + n:5 + n], dtype=np.float64))
+    if not ranges:
+        raise DataError(f"{path}: CARMEN log has no FLASER lines")
+    out = []
+    limit = max(float(r.max()) for r in ranges) if max_range is None else max_range
+    for r, (x, y, theta) in zip(ranges, poses):
+        angles = theta + np.linspace(-np.pi / 2, np.pi / 2, len(r))
+        keep = (r > 0) & (r < limit - 1e-6)
+        out.append(np.column_stack([x + r[keep] * np.cos(angles[keep]),
+                                    y + r[keep] * np.sin(angles[keep])]))
+    return np.concatenate(out)
+
+
+_READERS: dict[str, Callable[[Path, str, tuple[int, ...] | None], np.ndarray]] = {
+    "npy": _read_npy, "ply": _read_ply, "las": _read_las, "laz": _read_las, "pcd": _read_pcd,
+    "obj": _read_obj, "off": _read_off, "carmen": _read_carmen,
+}
+
+
+def as_planar(points: FloatArray, source: str = "points") -> FloatArray:
+    """(N, 2) points for a 2D fit: 3D points must lie in a plane of constant x, y or z.
+
+    A constant coordinate column (a slice written as x y 0, or Hoppe's 'p 0 x y') is dropped;
+    truly 3D points raise `DataError` pointing to ``wavepoly slice`` and ``--columns``.
+    """
+    if points.shape[1] == 2:
+        return points
+    extent = np.ptp(points, axis=0)
+    flat = np.flatnonzero(extent <= 1e-12 * max(float(extent.max()), 1e-300))
+    if len(flat) == 0:
+        raise DataError(f"{source}: points are 3D (extents {', '.join(f'{e:.4g}' for e in extent)})"
+                        "; slice them with 'wavepoly slice' or pick two columns with --columns")
+    keep = [k for k in range(3) if k != flat[0]]
+    return validate_points(points[:, keep], source=source, min_points=3)

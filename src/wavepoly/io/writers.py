@@ -1,0 +1,146 @@
+"""Polygon writers: GeoJSON, SVG, DXF and CSV, each written atomically.
+
+Slice stacks (`SliceResult`) also go to the Common Layer Interface (``.cli``) and STL; see
+`wavepoly.io.layers`.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import DataError
+from ..geometry import nesting_depth
+from ..types import Contour, FitResult
+from .atomic import atomic_path, write_text_atomic
+
+POLYGON_FORMATS = ("geojson", "json", "svg", "dxf", "csv")
+
+
+def write_polygons(path: str | Path, result: FitResult, *, fmt: str | None = None) -> None:
+    """Write the contours of ``result`` to ``path``; the format comes from the extension.
+
+    GeoJSON: a FeatureCollection, closed contours as Polygons with their holes, open ones as
+    LineStrings. SVG: one path per contour, y up. DXF: one LWPOLYLINE per contour. CSV: rows of
+    ``contour,vertex,x,y,closed``.
+    """
+    fmt = (fmt or Path(path).suffix.lstrip(".")).lower()
+    writer = {"geojson": write_geojson, "json": write_geojson, "svg": write_svg,
+              "dxf": write_dxf, "csv": write_csv}.get(fmt)
+    if writer is None:
+        raise DataError(f"{path}: unknown polygon format '.{fmt}' "
+                        f"(known: {', '.join(POLYGON_FORMATS)})")
+    writer(path, [result])
+
+
+def _ring(vertices: np.ndarray) -> list[list[float]]:
+    pts = vertices.tolist()
+    return pts + pts[:1]
+
+
+def geojson_features(result: FitResult, extra: dict | None = None) -> list[dict]:
+    """GeoJSON features of one fit: outer polygons with their holes, and open polylines."""
+    parents = result.parents or [-1] * len(result.contours)
+    depth = nesting_depth(parents)
+    features = []
+    for i, c in enumerate(result.contours):
+        props = {"contour": i, "closed": c.closed, "vertices": c.n_vertices,
+                 "max_error": c.max_error, "mean_error": c.mean_error}
+        if result.z is not None:
+            props["z"] = result.z
+        props.update(extra or {})
+        if not c.closed:
+            geom = {"type": "LineString", "coordinates": c.vertices.tolist()}
+        elif depth[i] % 2 == 1:
+            continue  # a hole: written inside its parent polygon
+        else:
+            holes = [_ring(h.vertices) for j, h in enumerate(result.contours)
+                     if parents[j] == i and h.closed]
+            geom = {"type": "Polygon", "coordinates": [_ring(c.vertices), *holes]}
+            props["holes"] = len(holes)
+        features.append({"type": "Feature", "geometry": geom, "properties": props})
+    return features
+
+
+def write_geojson(path: str | Path, results: Sequence[FitResult],
+                  extras: Sequence[dict] | None = None) -> None:
+    feats = []
+    for k, r in enumerate(results):
+        feats += geojson_features(r, extras[k] if extras else None)
+    doc = {"type": "FeatureCollection", "features": feats}
+    write_text_atomic(path, json.dumps(doc))
+
+
+def _svg_path(c: Contour) -> str:
+    pts = " L ".join(f"{x:.6g},{y:.6g}" for x, y in c.vertices)
+    return f"M {pts}{' Z' if c.closed else ''}"
+
+
+def svg_document(groups: Sequence[tuple[str, list[Contour]]], *, points: np.ndarray | None = None
+                 ) -> str:
+    """An SVG with one <g> per (label, contours) group, y axis pointing up, fitted viewBox."""
+    allv = [c.vertices for _, cs in groups for c in cs if len(c.vertices)]
+    if points is not None:
+        allv.append(points[:, :2])
+    if not allv:
+        raise DataError("nothing to draw: no contours")
+    stack = np.concatenate(allv)
+    lo, hi = stack.min(axis=0), stack.max(axis=0)
+    size = float(max(hi - lo)) or 1.0
+    pad = 0.02 * size
+    x0, y0, w, h = lo[0] - pad, -hi[1] - pad, hi[0] - lo[0] + 2 * pad, hi[1] - lo[1] + 2 * pad
+    stroke = size / 500
+    out = [f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="{x0:.6g} {y0:.6g} {w:.6g} {h:.6g}" '
+           f'width="800" height="{800 * h / w:.0f}">',
+           f'<g transform="scale(1,-1)" fill="none" stroke-width="{stroke:.3g}" '
+           'stroke-linejoin="round">']
+    if points is not None:
+        r = stroke * 0.8
+        dots = "".join(f'<circle cx="{x:.6g}" cy="{y:.6g}" r="{r:.3g}"/>' for x, y in points[:, :2])
+        out.append(f'<g fill="#999" stroke="none">{dots}</g>')
+    for label, contours in groups:
+        out.append(f'<g id="{label}">')
+        for c in contours:
+            colour = "#1f77b4" if c.closed else "#d62728"
+            out.append(f'<path d="{_svg_path(c)}" stroke="{colour}"/>')
+        out.append("</g>")
+    out.append("</g></svg>")
+    return "\n".join(out)
+
+
+def write_svg(path: str | Path, results: Sequence[FitResult],
+              labels: Sequence[str] | None = None) -> None:
+    groups = [(labels[k] if labels else f"slice-{k}", r.contours) for k, r in enumerate(results)]
+    write_text_atomic(path, svg_document(groups))
+
+
+def write_dxf(path: str | Path, results: Sequence[FitResult]) -> None:
+    import ezdxf
+
+    doc = ezdxf.new("R2010")
+    msp = doc.modelspace()
+    for r in results:
+        for c in r.contours:
+            attribs = {"elevation": r.z} if r.z is not None else {}
+            msp.add_lwpolyline(c.vertices.tolist(), close=c.closed, dxfattribs=attribs)
+    with atomic_path(path) as tmp:
+        doc.saveas(tmp)
+
+
+def write_csv(path: str | Path, results: Sequence[FitResult]) -> None:
+    with atomic_path(path) as tmp, open(tmp, "w", newline="", encoding="utf-8") as fh:
+        w = csv.writer(fh)
+        header = ["contour", "vertex", "x", "y", "closed"]
+        sliced = any(r.z is not None for r in results)
+        w.writerow(header + (["z"] if sliced else []))
+        cid = 0
+        for r in results:
+            for c in r.contours:
+                for k, (x, y) in enumerate(c.vertices):
+                    row = [cid, k, repr(float(x)), repr(float(y)), int(c.closed)]
+                    w.writerow(row + ([r.z] if sliced else []))
+                cid += 1

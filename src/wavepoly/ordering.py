@@ -1,0 +1,464 @@
+"""Ordering (paper §2, "Data sorting"): unorganized planar points -> ordered, thinned contours.
+
+The paper marches from a random start point along the least-squares tangent of a fixed-radius
+neighbourhood, one neighbourhood at a time, each step summarizing the points ahead by one ordered
+point. This module computes the same ingredients for every neighbourhood at once, so that no
+Python loop runs over points:
+
+1. *Neighbourhoods*: the plane is cut into cells of radius/2; every occupied cell seeds a
+   neighbourhood of the fixed ``radius``, summarized by its centroid and the least-squares
+   regression line through it (the tangent: the principal axis of the neighbourhood).
+2. *Thinning*: a random (seeded) maximal set of centroids at least radius/2 apart is kept
+   (Luby's parallel rounds), so consecutive ordered points are radius/2 .. radius apart, as
+   one marching step would place them.
+3. *Marching*: each ordered point links to the nearest point ahead and the nearest point behind
+   along its tangent; mutual links form chains, a chain that comes back to its start is a closed
+   contour. Chain ends that are each other's nearest free end are joined (sharp corners, where
+   both neighbours lie ahead of the tangent, and gaps in the scan). Where the chain turns
+   sharply, the run of turning points is replaced by the intersection of the straight legs on
+   either side, so corners stay sharp instead of being rounded by the neighbourhood averaging.
+4. Every input point belongs to the contour of its nearest ordered point (``members``); points of
+   contours too short to be curves, or farther than ``radius`` from their contour, are outliers.
+
+All neighbour queries use `scipy.spatial.cKDTree`; the cost is O(n log n).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components, depth_first_order
+from scipy.spatial import cKDTree
+
+from .errors import DataError, check_tolerance
+from .io.readers import validate_points
+from .types import FloatArray, IntArray, OrderedContour, Ordering
+
+#: Turning angle (degrees, measured over two ordered points each side) that marks a corner.
+CORNER_TURN = 30.0
+#: Perpendicular RMS spread (in radii) above which a straight neighbourhood is two merged walls.
+MERGE_SPREAD = 0.35
+
+
+@dataclass(frozen=True)
+class _Nodes:
+    """Neighbourhood summaries: position (centroid), unit tangent, shape of the scatter."""
+
+    xy: FloatArray
+    tangent: FloatArray
+    ratio: FloatArray  # smaller / larger principal variance
+    spread: FloatArray  # perpendicular RMS distance of the neighbourhood's points
+
+
+def median_spacing(points: FloatArray, sample: int = 20000, seed: int = 0) -> float:
+    """Median nearest-neighbour distance of ``points`` (on a random sample of ``sample``)."""
+    return _neighbour_distance(points, 1, sample, seed)
+
+
+def curve_spacing(points: FloatArray, sample: int = 20000, seed: int = 0) -> float:
+    """Typical distance between consecutive samples along a curve.
+
+    Half the median distance to the 4th nearest neighbour: exact for evenly spaced samples, and
+    unlike the nearest-neighbour distance (the smaller of the two gaps beside a sample, about a
+    third of the mean gap for random sampling) it sees the gaps that break a march.
+    """
+    return 0.5 * _neighbour_distance(points, 4, sample, seed)
+
+
+def _neighbour_distance(points: FloatArray, k: int, sample: int, seed: int) -> float:
+    tree = cKDTree(points)
+    rng = np.random.default_rng(seed)
+    probe = points if len(points) <= sample else points[rng.choice(len(points), sample, False)]
+    dist, _ = tree.query(probe, k=min(k + 1, len(points)))
+    kth = dist[:, -1][np.isfinite(dist[:, -1]) & (dist[:, -1] > 0)]
+    return float(np.median(kth)) if len(kth) else 0.0
+
+
+def order_points(points: FloatArray, radius: float, *, seed: int = 0, min_points: int = 4
+                 ) -> Ordering:
+    """Order and thin unorganized planar points into contours (paper §2).
+
+    Parameters
+    ----------
+    points : (N, 2) unorganized points.
+    radius : fixed neighbourhood radius, in the points' units (the paper: about the shape
+        tolerance). Widened, with a note, when the median point spacing exceeds radius / 3.
+    seed : seed of the random choices (which neighbourhoods are kept when thinning).
+    min_points : contours with fewer ordered points than this are treated as outliers.
+
+    Returns
+    -------
+    `Ordering` with the contours, the outlier indices, the radius used and notes.
+
+    Examples
+    --------
+    >>> t = np.linspace(0, 2 * np.pi, 2000, endpoint=False)
+    >>> circle = np.column_stack([np.cos(t), np.sin(t)])
+    >>> res = order_points(circle, 0.05)
+    >>> len(res.contours), res.contours[0].closed, len(res.outliers)
+    (1, True, 0)
+    """
+    pts = validate_points(points, source="points")[:, :2]
+    radius = check_tolerance(radius, "radius")
+    notes = []
+    spacing = curve_spacing(pts, seed=seed)
+    if spacing > radius / 3:
+        new_radius = 3.0 * spacing
+        notes.append(f"radius widened from {radius:.4g} to {new_radius:.4g}: the point spacing "
+                     f"along the curves ({spacing:.4g}) is more than a third of it")
+        radius = new_radius
+    rng = np.random.default_rng(seed)
+    tree = cKDTree(pts)
+    nodes = _neighbourhoods(pts, tree, radius)
+    keep = _thin(nodes.xy, radius / 2, rng)
+    nodes = _Nodes(nodes.xy[keep], nodes.tangent[keep], nodes.ratio[keep], nodes.spread[keep])
+    links = _link(nodes, radius)
+    chains = _chains(links, len(nodes.xy))
+    merged = nodes.xy[_merged_walls(nodes, chains, radius)]
+    if len(merged):
+        notes.append(f"{len(merged)} place(s) where two walls closer than 2 x radius "
+                     "may have merged into one contour")
+    contours, outliers = _contours(pts, tree, nodes, chains, radius, min_points)
+    return Ordering(contours, outliers, radius, merged, tuple(notes))
+
+
+# ---------------------------------------------------------------------------------------------
+# 1. neighbourhoods
+
+
+def _neighbourhoods(pts: FloatArray, tree: cKDTree, radius: float) -> _Nodes:
+    """Centroid and principal axes of the fixed-radius neighbourhood of each occupied cell."""
+    cell = np.floor(pts / (radius / 2)).astype(np.int64)
+    _, inverse, counts = np.unique(cell, axis=0, return_inverse=True, return_counts=True)
+    inverse = inverse.ravel()
+    seeds = np.column_stack([np.bincount(inverse, pts[:, k]) for k in range(2)]) / counts[:, None]
+    xy = seeds
+    for _ in range(2):  # the second pass sees a neighbourhood centred on the curve
+        centroid, cov = _moments(xy, pts, tree, radius)
+        tangent, ratio, spread = _principal_axes(cov)
+        # project onto the regression line: move across the curve, never along it
+        along = np.einsum("nd,nd->n", xy - centroid, tangent)
+        xy = centroid + along[:, None] * tangent
+    return _Nodes(xy, tangent, ratio, spread)
+
+
+def _moments(centres: FloatArray, pts: FloatArray, tree: cKDTree, radius: float
+             ) -> tuple[FloatArray, FloatArray]:
+    """Centroid and covariance (xx, xy, yy) of the points within ``radius`` of each centre."""
+    pairs = cKDTree(centres).sparse_distance_matrix(tree, radius, output_type="ndarray")
+    owner, idx = pairs["i"], pairs["j"]
+    k = len(centres)
+    count = np.bincount(owner, minlength=k).astype(float)
+    empty = count == 0
+    count[empty] = 1.0
+    local = pts[idx] - centres[owner]  # moments about the centre: no cancellation
+    mean = np.column_stack([np.bincount(owner, local[:, d], k) for d in range(2)]) / count[:, None]
+    sxx = np.bincount(owner, local[:, 0] ** 2, k) / count - mean[:, 0] ** 2
+    sxy = np.bincount(owner, local[:, 0] * local[:, 1], k) / count - mean[:, 0] * mean[:, 1]
+    syy = np.bincount(owner, local[:, 1] ** 2, k) / count - mean[:, 1] ** 2
+    centroid = centres + mean
+    centroid[empty] = centres[empty]
+    return centroid, np.column_stack([sxx, sxy, syy])
+
+
+def _principal_axes(cov: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Unit principal direction (the regression line), variance ratio and perpendicular RMS."""
+    sxx, sxy, syy = cov.T
+    half_trace = 0.5 * (sxx + syy)
+    disc = np.sqrt(np.maximum(0.25 * (sxx - syy) ** 2 + sxy**2, 0.0))
+    big, small = half_trace + disc, np.maximum(half_trace - disc, 0.0)
+    angle = 0.5 * np.arctan2(2 * sxy, sxx - syy)
+    tangent = np.column_stack([np.cos(angle), np.sin(angle)])
+    ratio = np.where(big > 0, small / np.where(big > 0, big, 1.0), 1.0)
+    return tangent, ratio, np.sqrt(small)
+
+
+# ---------------------------------------------------------------------------------------------
+# 2. thinning
+
+
+def _thin(xy: FloatArray, separation: float, rng: np.random.Generator) -> IntArray:
+    """Indices of a random maximal subset of ``xy`` with pairwise distances >= ``separation``.
+
+    Luby's algorithm: in each round, every undecided point whose random priority beats all its
+    undecided neighbours is kept and its neighbours are dropped; O(log n) vectorized rounds.
+    """
+    n = len(xy)
+    pairs = cKDTree(xy).query_pairs(separation, output_type="ndarray")
+    a = np.concatenate([pairs[:, 0], pairs[:, 1]])
+    b = np.concatenate([pairs[:, 1], pairs[:, 0]])
+    priority = rng.permutation(n)
+    state = np.zeros(n, dtype=np.int8)  # 0 undecided, 1 kept, -1 dropped
+    while True:
+        live = (state[a] == 0) & (state[b] == 0)
+        a, b = a[live], b[live]
+        best = np.full(n, -1)
+        np.maximum.at(best, a, priority[b])
+        chosen = (state == 0) & (priority > best)
+        if not chosen.any():
+            break
+        state[chosen] = 1
+        state[b[chosen[a]]] = -1
+    return np.flatnonzero(state == 1)
+
+
+# ---------------------------------------------------------------------------------------------
+# 3. marching: links along the tangents, chains, corners
+
+
+def _link(nodes: _Nodes, radius: float) -> IntArray:
+    """Mutual links (pairs of node indices) between each node and its neighbours ahead/behind."""
+    n = len(nodes.xy)
+    k = min(12, n)
+    if n < 2:
+        return np.empty((0, 2), dtype=np.intp)
+    dist, nbr = cKDTree(nodes.xy).query(nodes.xy, k=k, distance_upper_bound=2.0 * radius)
+    dist, nbr = dist[:, 1:], nbr[:, 1:]
+    valid = np.isfinite(dist)
+    nbr_safe = np.where(valid, nbr, 0)
+    direction = (nodes.xy[nbr_safe] - nodes.xy[:, None, :]) / np.where(valid, dist, 1.0)[..., None]
+    along = np.einsum("nkd,nd->nk", direction, nodes.tangent)
+    cos60 = 0.5
+    ahead = _first(valid & (along > cos60))
+    behind = _first(valid & (along < -cos60))
+    pick = np.column_stack([ahead, behind])
+    partner = np.where(pick >= 0, nbr_safe[np.arange(n)[:, None], np.maximum(pick, 0)], -1)
+    cand = np.column_stack([np.repeat(np.arange(n), 2), partner.ravel()])
+    cand = cand[cand[:, 1] >= 0]
+    key_fwd = cand[:, 0] * n + cand[:, 1]
+    key_rev = cand[:, 1] * n + cand[:, 0]
+    mutual = np.isin(key_fwd, key_rev) & (cand[:, 0] < cand[:, 1])
+    links = cand[mutual]
+    return _join_ends(nodes, links, radius)
+
+
+def _first(mask: np.ndarray) -> IntArray:
+    """Column of the first True in each row of ``mask`` (neighbours are sorted by distance), -1."""
+    idx = np.argmax(mask, axis=1)
+    return np.where(mask.any(axis=1), idx, -1)
+
+
+def _join_ends(nodes: _Nodes, links: IntArray, radius: float) -> IntArray:
+    """Join free ends (and lone nodes) that are each other's nearest free node.
+
+    Ends join within 3 x radius whatever their directions (sharp corners, where both neighbours
+    of the corner node lie ahead of its tangent), and across a gap of up to 5 x radius when each
+    end faces the other (a gap in the scan). A chain's two ends join only when the chain is long
+    enough to close on itself. The joining repeats, so a lone node can bridge a gap.
+    """
+    n = len(nodes.xy)
+    for _ in range(8):
+        degree = np.bincount(links.ravel(), minlength=n) if len(links) else np.zeros(n, int)
+        free = np.flatnonzero(degree < 2)
+        if len(free) < 2:
+            break
+        comp = _components(links, n)
+        size = np.bincount(comp)
+        outward = _outward(nodes.xy, links, free, degree)
+        k = min(5, len(free))
+        dist, nbr = cKDTree(nodes.xy[free]).query(nodes.xy[free], k=k,
+                                                  distance_upper_bound=5.0 * radius)
+        best = np.full(len(free), -1)
+        for col in range(1, k):
+            cand = np.minimum(nbr[:, col], len(free) - 1)
+            ok = np.isfinite(dist[:, col]) & (best < 0)
+            same = comp[free] == comp[free[cand]]
+            ok &= ~same | (size[comp[free]] >= 4)
+            ok &= ~_linked(links, free, free[cand], n)
+            gap = nodes.xy[free[cand]] - nodes.xy[free]
+            facing = (np.einsum("ij,ij->i", gap, outward) > 0.7 * dist[:, col]) & (
+                np.einsum("ij,ij->i", -gap, outward[cand]) > 0.7 * dist[:, col])
+            ok &= (dist[:, col] <= 3.0 * radius) | facing
+            best[ok] = cand[ok]
+        mutual = (best >= 0) & (best[np.maximum(best, 0)] == np.arange(len(free)))
+        pairs = np.column_stack([free[mutual], free[best[mutual]]])
+        pairs = pairs[pairs[:, 0] < pairs[:, 1]]
+        if not len(pairs):
+            break
+        links = np.vstack([links, pairs])
+    return links
+
+
+def _outward(xy: FloatArray, links: IntArray, free: IntArray, degree: IntArray) -> FloatArray:
+    """Unit direction out of the chain at each free node (away from its one neighbour)."""
+    out = np.zeros((len(free), 2))
+    if not len(links):
+        return out
+    neighbour = np.full(len(xy), -1)
+    neighbour[links[:, 0]] = links[:, 1]
+    neighbour[links[:, 1]] = links[:, 0]
+    ends = degree[free] == 1
+    vec = xy[free[ends]] - xy[neighbour[free[ends]]]
+    norm = np.linalg.norm(vec, axis=1, keepdims=True)
+    out[ends] = vec / np.where(norm > 0, norm, 1.0)
+    return out
+
+
+def _linked(links: IntArray, a: IntArray, b: IntArray, n: int) -> np.ndarray:
+    """Whether each pair (a[i], b[i]) is already a link."""
+    if not len(links) or not len(a):
+        return np.zeros(len(a), dtype=bool)
+    keys = np.concatenate([links[:, 0] * n + links[:, 1], links[:, 1] * n + links[:, 0]])
+    return np.isin(a * n + b, keys)
+
+
+def _components(links: IntArray, n: int) -> IntArray:
+    graph = coo_matrix((np.ones(len(links)), (links[:, 0], links[:, 1])), shape=(n, n))
+    return connected_components(graph, directed=False)[1]
+
+
+def _chains(links: IntArray, n: int) -> list[tuple[IntArray, bool]]:
+    """Node sequences of each connected chain, and whether it closes on itself."""
+    graph = coo_matrix((np.ones(len(links)), (links[:, 0], links[:, 1])), shape=(n, n)).tocsr()
+    graph = graph + graph.T
+    ncomp, comp = connected_components(graph, directed=False)
+    degree = np.diff(graph.indptr)
+    order = np.argsort(comp, kind="stable")
+    bounds = np.searchsorted(comp[order], np.arange(ncomp + 1))
+    out = []
+    for c in range(ncomp):
+        members = order[bounds[c]:bounds[c + 1]]
+        ends = members[degree[members] <= 1]
+        closed = len(ends) == 0 and len(members) >= 3
+        start = ends[0] if len(ends) else members[0]
+        seq = depth_first_order(graph, start, directed=False, return_predecessors=False)
+        out.append((seq, closed))
+    return out
+
+
+def _turning(xy: FloatArray, closed: bool, step: int = 2) -> FloatArray:
+    """Turning angle (degrees) at each point between the chords to the points ``step`` away."""
+    n = len(xy)
+    if closed:
+        prev, nxt = np.roll(xy, step, axis=0), np.roll(xy, -step, axis=0)
+    else:
+        idx = np.arange(n)
+        prev, nxt = xy[np.maximum(idx - step, 0)], xy[np.minimum(idx + step, n - 1)]
+    a, b = xy - prev, nxt - xy
+    norm = np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1)
+    cos = np.einsum("ij,ij->i", a, b) / np.where(norm > 0, norm, 1.0)
+    turn = np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
+    return np.where(norm > 0, turn, 0.0)
+
+
+def _merged_walls(nodes: _Nodes, chains: list[tuple[IntArray, bool]], radius: float
+                  ) -> IntArray:
+    """Nodes on straight stretches whose neighbourhood is as wide as two nearby walls."""
+    out = []
+    for seq, closed in chains:
+        if len(seq) < 5:
+            continue
+        straight = _turning(nodes.xy[seq], closed) < CORNER_TURN
+        out.append(seq[straight & (nodes.spread[seq] > MERGE_SPREAD * radius)])
+    return np.concatenate(out) if out else np.empty(0, dtype=np.intp)
+
+
+def _sharpen_corners(xy: FloatArray, closed: bool, pts_tree: cKDTree, radius: float
+                     ) -> FloatArray:
+    """Replace each run of turning points by the intersection of the straight legs beside it."""
+    n = len(xy)
+    if n < 6:
+        return xy
+    corner = _turning(xy, closed) >= CORNER_TURN
+    if not corner.any() or corner.all():
+        return xy
+    shifted = np.roll(corner, 1) if closed else np.concatenate([[False], corner[:-1]])
+    starts = np.flatnonzero(corner & ~shifted)
+    keep = np.ones(n, dtype=bool)
+    new_xy = xy.copy()
+    for s in starts:
+        length = 1
+        while length < n and corner[(s + length) % n] and (closed or s + length < n):
+            length += 1
+        run = (s + np.arange(length)) % n
+        e = run[-1]
+        before, after = [s - 2, s - 1], [e + 1, e + 2]
+        if not closed and (before[0] < 0 or after[1] >= n):
+            continue
+        before, after = [i % n for i in before], [i % n for i in after]
+        point = _intersect(xy[before[0]], xy[before[1]], xy[after[0]], xy[after[1]])
+        if point is None:
+            continue
+        near_run = np.min(np.linalg.norm(xy[run] - point, axis=1)) <= radius
+        has_data = pts_tree.query(point)[0] <= radius / 2
+        if near_run and has_data:
+            keep[run] = False
+            keep[run[0]] = True
+            new_xy[run[0]] = point
+    return new_xy[keep]
+
+
+def _intersect(a0, a1, b0, b1) -> FloatArray | None:
+    """Intersection of line a0a1 with line b0b1 if they cross at more than 25 degrees."""
+    da, db = a1 - a0, b1 - b0
+    cross = da[0] * db[1] - da[1] * db[0]
+    if abs(cross) < np.sin(np.radians(25)) * np.linalg.norm(da) * np.linalg.norm(db):
+        return None
+    t = ((b0 - a0)[0] * db[1] - (b0 - a0)[1] * db[0]) / cross
+    return a0 + t * da
+
+
+# ---------------------------------------------------------------------------------------------
+# 4. contours and their members
+
+
+def _contours(pts: FloatArray, tree: cKDTree, nodes: _Nodes,
+              chains: list[tuple[IntArray, bool]], radius: float, min_points: int
+              ) -> tuple[list[OrderedContour], IntArray]:
+    owner_chain = np.full(len(nodes.xy), -1)
+    for c, (seq, _) in enumerate(chains):
+        owner_chain[seq] = c
+    _, nearest = cKDTree(nodes.xy).query(pts)
+    chain_of_point = owner_chain[nearest]
+    order = np.argsort(chain_of_point, kind="stable")
+    bounds = np.searchsorted(chain_of_point[order], np.arange(len(chains) + 1))
+    contours: list[OrderedContour] = []
+    outliers = [np.flatnonzero(chain_of_point < 0)]
+    for c, (seq, closed) in enumerate(chains):
+        members = order[bounds[c]:bounds[c + 1]]
+        if len(seq) < min_points:
+            outliers.append(members)
+            continue
+        xy = _sharpen_corners(nodes.xy[seq], closed, tree, radius)
+        if not closed:
+            xy = _extend_ends(xy, pts[members], radius)
+        far = _distance_to_polyline(pts[members], xy, closed) > radius
+        outliers.append(members[far])
+        contours.append(OrderedContour(xy, closed, np.sort(members[~far])))
+    return contours, np.sort(np.concatenate(outliers)).astype(np.intp)
+
+
+def _extend_ends(xy: FloatArray, members: FloatArray, radius: float) -> FloatArray:
+    """Move an open chain's end points out, within one radius, to its farthest member point."""
+    out = xy.copy()
+    for end, inner in ((0, 1), (-1, -2)):
+        direction = out[end] - out[inner]
+        length = np.linalg.norm(direction)
+        if length == 0:
+            continue
+        direction /= length
+        reach = (members - out[end]) @ direction
+        lateral = np.abs((members - out[end]) @ np.array([-direction[1], direction[0]]))
+        ahead = (reach > 0) & (reach <= radius) & (lateral < max(length, radius / 2))
+        if ahead.any():
+            out[end] = out[end] + direction * reach[ahead].max()
+    return out
+
+
+def _distance_to_polyline(points: FloatArray, xy: FloatArray, closed: bool) -> FloatArray:
+    line = shapely.linearrings(xy) if closed and len(xy) >= 3 else shapely.linestrings(xy)
+    return shapely.distance(shapely.points(points), line)
+
+
+def ordering_summary(ordering: Ordering, n_points: int) -> str:
+    """One line: contours (closed/open), ordered points, outliers, radius."""
+    if n_points <= 0:
+        raise DataError("no points")
+    n_closed = sum(c.closed for c in ordering.contours)
+    ordered = sum(len(c.points) for c in ordering.contours)
+    return (f"{n_points} points -> {len(ordering.contours)} contours ({n_closed} closed, "
+            f"{len(ordering.contours) - n_closed} open), {ordered} ordered points, "
+            f"{len(ordering.outliers)} outliers, radius {ordering.radius:.4g}")

@@ -1,0 +1,109 @@
+"""Figures in the manner of the paper's: raw vs ordered points (Fig. 1), two decomposition levels
+(Fig. 2), MSCs per level (Fig. 3-4) and the final polygon over the raw points (Fig. 6).
+
+Each function draws on a matplotlib Axes (a new figure when none is given) and returns it;
+`save_figure` writes a figure atomically.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")  # figures are written to files; never needs a display
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from .io.atomic import atomic_path  # noqa: E402
+from .types import FitResult, FloatArray, Ordering  # noqa: E402
+
+_COLOURS = plt.get_cmap("tab10").colors
+
+
+def _axes(ax=None, title: str | None = None):
+    if ax is None:
+        _, ax = plt.subplots(figsize=(8, 8))
+    ax.set_aspect("equal")
+    if title:
+        ax.set_title(title, fontsize=10)
+    return ax
+
+
+def _closed(xy: FloatArray, closed: bool) -> FloatArray:
+    return np.vstack([xy, xy[:1]]) if closed and len(xy) else xy
+
+
+def plot_ordering(points: FloatArray, ordering: Ordering, ax=None, title: str | None = None):
+    """Fig. 1: raw points in grey, each ordered contour in its own colour, outliers in black."""
+    ax = _axes(ax, title or f"{len(points)} points -> {len(ordering.contours)} contours, "
+               f"{sum(len(c.points) for c in ordering.contours)} ordered points")
+    ax.plot(points[:, 0], points[:, 1], ".", ms=1, color="0.75", zorder=1)
+    for k, c in enumerate(ordering.contours):
+        xy = _closed(c.points, c.closed)
+        colour = _COLOURS[k % len(_COLOURS)]
+        ax.plot(xy[:, 0], xy[:, 1], "-", lw=0.8, color=colour, zorder=2)
+        ax.plot(c.points[:, 0], c.points[:, 1], ".", ms=2.5, color=colour, zorder=3)
+        if not c.closed:
+            ax.plot(*c.points[[0, -1]].T, "x", color=colour, ms=6, zorder=4)
+    if len(ordering.outliers):
+        out = points[ordering.outliers]
+        ax.plot(out[:, 0], out[:, 1], ".", ms=3, color="k", zorder=4)
+    if len(ordering.merged_walls):
+        ax.plot(*ordering.merged_walls.T, "o", mfc="none", color="m", ms=8, zorder=5)
+    return ax
+
+
+def plot_levels(points: FloatArray, fine: FloatArray, coarse: FloatArray, closed: bool,
+                labels: tuple[str, str] = ("level k", "level k-1"), ax=None,
+                title: str | None = None):
+    """Fig. 2: a contour's control polygon at two decomposition levels over the raw points."""
+    ax = _axes(ax, title)
+    ax.plot(points[:, 0], points[:, 1], ".", ms=1, color="0.75")
+    for xy, label, style in ((fine, labels[0], "-"), (coarse, labels[1], "--")):
+        xy2 = _closed(xy, closed)
+        ax.plot(xy2[:, 0], xy2[:, 1], style, lw=1, marker=".", ms=4,
+                label=f"{label}: {len(xy)} coefficients")
+    ax.legend(fontsize=8)
+    return ax
+
+
+def plot_fit(points: FloatArray, result: FitResult, ax=None, title: str | None = None):
+    """Fig. 6: the final polygons over the raw points, vertices marked, outliers in black."""
+    n_v = result.n_vertices
+    ax = _axes(ax, title or f"{result.n_points} points -> {n_v} vertices, "
+               f"max error {result.max_error:.3g} (tolerance {result.tolerance:.3g})")
+    ax.plot(points[:, 0], points[:, 1], ".", ms=1, color="0.7", zorder=1)
+    for k, c in enumerate(result.contours):
+        xy = _closed(c.vertices, c.closed)
+        colour = _COLOURS[k % len(_COLOURS)]
+        ax.plot(xy[:, 0], xy[:, 1], "-", lw=1, color=colour, zorder=2)
+        ax.plot(c.vertices[:, 0], c.vertices[:, 1], "o", ms=3, mfc="white", color=colour,
+                zorder=3)
+    if len(result.outliers):
+        out = points[result.outliers]
+        ax.plot(out[:, 0], out[:, 1], ".", ms=3, color="k", zorder=4)
+    return ax
+
+
+def plot_mscs(points: FloatArray, mscs_by_level: dict[int, list[FloatArray]], closed: bool,
+              ax=None, title: str | None = None):
+    """Fig. 3-4: the multi-storable coefficient runs found at each level, one colour per level."""
+    ax = _axes(ax, title or "MSCs per level")
+    ax.plot(points[:, 0], points[:, 1], ".", ms=1, color="0.75")
+    for k, (level, runs) in enumerate(sorted(mscs_by_level.items())):
+        colour = _COLOURS[k % len(_COLOURS)]
+        for j, run in enumerate(runs):
+            ax.plot(run[:, 0], run[:, 1], "-o", ms=3, lw=1.5, color=colour,
+                    label=f"level {level}: {len(runs)} MSCs" if j == 0 else None)
+    ax.legend(fontsize=8)
+    return ax
+
+
+def save_figure(ax_or_fig, path: str | Path, dpi: int = 150) -> None:
+    """Write the figure of ``ax_or_fig`` to ``path`` (format from the extension) and close it."""
+    fig = ax_or_fig.figure if hasattr(ax_or_fig, "figure") and ax_or_fig.figure else ax_or_fig
+    suffix = Path(path).suffix.lstrip(".") or "png"
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=dpi, bbox_inches="tight", format=suffix)
+    plt.close(fig)

@@ -1,0 +1,364 @@
+"""Reconstruction from coarser to finer levels (paper §4, eq. 8-11), verified and pruned.
+
+Starting at the coarsest level of a `Pyramid`, runs of storable coefficients (eq. 8-9) become
+multi-storable coefficients (MSCs) kept in a global dynamic list (GDL); the data points they
+approximate are deleted from the working set (eq. 10). The next level is synthesized (eq. 11);
+coefficients inside an MSC found at a coarser level (the "updated MSC") are not searched again,
+the rest go through the same extraction, until no data point is left or the finest level is done.
+
+Every coefficient sits at a curve parameter (its Greville abscissa, `wavelets.greville`), and
+every data point gets the parameter of its projection on the finest control polygon, so "inside
+an MSC", "between two MSCs" and "the edge that stands for a point" are comparisons of numbers.
+
+The polygon is then made honest: every data point of the contour is measured against the edge
+that stands for it (which bounds its distance to the polygon), and wherever the tolerance breaks, the finest-level point (or, failing that, the data point itself)
+that restores it is inserted. Finally every vertex whose removal keeps all points within the
+tolerance is removed, in rounds of non-adjacent vertices.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from scipy.spatial import cKDTree
+
+from . import wavelets
+from .geometry import segment_distance
+from .levels import Pyramid
+from .types import FloatArray, IntArray
+
+#: Relative slack on the tolerance for floating-point round-off in distance computations.
+SLACK = 1e-9
+
+
+@dataclass(frozen=True)
+class Msc:
+    """A multi-storable coefficient run: inner coefficients ``first..last`` of ``level``.
+
+    start / span: parameter interval covered (span may wrap past 1 on a closed contour).
+    """
+
+    level: int
+    first: int
+    last: int
+    start: float
+    span: float
+    points: FloatArray
+    params: FloatArray
+
+
+@dataclass(frozen=True)
+class Reconstruction:
+    """The polygon of one contour and how it was made."""
+
+    vertices: FloatArray
+    params: FloatArray
+    closed: bool
+    mscs: list[Msc]
+    start_level: int
+    wavelet_vertices: int  # after MSC assembly and repair, before pruning
+    max_error: float
+    mean_error: float
+
+    @property
+    def mscs_per_level(self) -> dict[int, int]:
+        out: dict[int, int] = {}
+        for m in self.mscs:
+            out[m.level] = out.get(m.level, 0) + 1
+        return out
+
+
+def point_parameters(points: FloatArray, pyramid: Pyramid) -> FloatArray:
+    """Curve parameter of each data point: its projection on the finest control polygon."""
+    cp = pyramid.coefficients[pyramid.finest]
+    u = wavelets.greville(pyramid.finest, pyramid.closed)
+    if pyramid.closed:
+        cp, u = np.vstack([cp, cp[:1]]), np.append(u, 1.0)
+    arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(cp, axis=0), axis=1))])
+    s = shapely.line_locate_point(shapely.linestrings(cp), shapely.points(points))
+    param = np.interp(s, arc, u)
+    return np.mod(param, 1.0) if pyramid.closed else param
+
+
+# ---------------------------------------------------------------------------------------------
+# MSC extraction (§4.1 at the coarsest level, §4.2 at finer levels)
+
+
+def _neighbour_distances(points: FloatArray, owner: IntArray, coeffs: FloatArray, closed: bool
+                         ) -> tuple[FloatArray, FloatArray]:
+    """Distance of each point to the segments before and after its coefficient (inf if none)."""
+    m = len(coeffs)
+    prev = owner - 1
+    nxt = owner + 1
+    if closed:
+        prev, nxt = prev % m, nxt % m
+    d_prev = np.full(len(points), np.inf)
+    d_next = np.full(len(points), np.inf)
+    ok_prev = prev >= 0
+    ok_next = nxt < m
+    d_prev[ok_prev] = segment_distance(points[ok_prev], coeffs[prev[ok_prev]],
+                                       coeffs[owner[ok_prev]])
+    d_next[ok_next] = segment_distance(points[ok_next], coeffs[owner[ok_next]],
+                                       coeffs[nxt[ok_next]])
+    return d_prev, d_next
+
+
+def storable_mask(points: FloatArray, coeffs: FloatArray, closed: bool, tolerance: float
+                  ) -> tuple[np.ndarray, IntArray]:
+    """Eq. 8-9: which coefficients are storable, and the nearest coefficient of each point.
+
+    A coefficient is storable when every data point nearest to it (eq. 9) lies within
+    ``tolerance`` of the nearer of its two adjacent segments (eq. 8). A coefficient with no
+    points is storable.
+    """
+    if len(points) == 0:
+        return np.ones(len(coeffs), dtype=bool), np.empty(0, dtype=np.intp)
+    _, owner = cKDTree(coeffs).query(points)
+    d_prev, d_next = _neighbour_distances(points, owner, coeffs, closed)
+    bad = np.minimum(d_prev, d_next) > tolerance * (1 + SLACK)
+    return np.bincount(owner, weights=bad, minlength=len(coeffs)) == 0, owner
+
+
+def storable_runs(candidate: np.ndarray, closed: bool, min_run: int = 4) -> list[IntArray]:
+    """Index runs of at least ``min_run`` consecutive True values (cyclic when ``closed``)."""
+    m = len(candidate)
+    if closed and candidate.all():
+        return [np.arange(m)]
+    shift = 0
+    if closed:  # start the scan just after a False so that no run wraps
+        shift = int(np.flatnonzero(~candidate)[-1]) + 1
+    rolled = np.roll(candidate, -shift)
+    edges = np.diff(np.concatenate([[0], rolled.astype(np.int8), [0]]))
+    starts, ends = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
+    return [(np.arange(s, e) + shift) % m for s, e in zip(starts, ends) if e - s >= min_run]
+
+
+def _inside(u: FloatArray, mscs: list[Msc], closed: bool) -> np.ndarray:
+    """Which parameters fall within some MSC's interval (the updated MSCs, §4.2)."""
+    mask = np.zeros(len(u), dtype=bool)
+    for msc in mscs:
+        if closed:
+            mask |= np.mod(u - msc.start, 1.0) <= msc.span + 1e-12
+        else:
+            mask |= (u >= msc.start - 1e-12) & (u <= msc.start + msc.span + 1e-12)
+    return mask
+
+
+def extract_mscs(points: FloatArray, alive: np.ndarray, coeffs: FloatArray, level: int,
+                 closed: bool, tolerance: float, gdl: list[Msc]) -> list[Msc]:
+    """One level of §4: new MSCs between the updated ones, and eq. 10 deletions in ``alive``."""
+    u = wavelets.greville(level, closed)
+    searchable = ~_inside(u, gdl, closed)
+    idx_alive = np.flatnonzero(alive)
+    storable, owner = storable_mask(points[idx_alive], coeffs, closed, tolerance)
+    new: list[Msc] = []
+    run_id = np.full(len(coeffs), -1)
+    for run in storable_runs(storable & searchable, closed):
+        inner = run if len(run) == len(coeffs) else run[1:-1]  # a whole ring keeps all
+        run_id[inner] = len(new)
+        span = 1.0 if len(inner) == len(coeffs) else (
+            np.mod(u[inner[-1]] - u[inner[0]], 1.0) if closed else u[inner[-1]] - u[inner[0]])
+        new.append(Msc(level, int(inner[0]), int(inner[-1]), float(u[inner[0]]), float(span),
+                       coeffs[inner], u[inner]))
+    if new and len(idx_alive):
+        _delete_covered(points, idx_alive, owner, coeffs, run_id, closed, tolerance, alive)
+    return new
+
+
+def _delete_covered(points, idx_alive, owner, coeffs, run_id, closed, tolerance, alive):
+    """Eq. 10: delete the points of an MSC's coefficients within tolerance of its segments."""
+    m = len(coeffs)
+    in_run = run_id[owner] >= 0
+    pts, own = points[idx_alive[in_run]], owner[in_run]
+    d_prev, d_next = _neighbour_distances(pts, own, coeffs, closed)
+    prev = (own - 1) % m if closed else np.maximum(own - 1, 0)
+    nxt = (own + 1) % m if closed else np.minimum(own + 1, m - 1)
+    same_prev = (run_id[prev] == run_id[own]) & (prev != own)
+    same_next = (run_id[nxt] == run_id[own]) & (nxt != own)
+    d = np.minimum(np.where(same_prev, d_prev, np.inf), np.where(same_next, d_next, np.inf))
+    alive[idx_alive[in_run][d <= tolerance * (1 + SLACK)]] = False
+
+
+# ---------------------------------------------------------------------------------------------
+# assembly, verification and repair, pruning
+
+
+def reconstruct_contour(pyramid: Pyramid, ordered: FloatArray, points: FloatArray,
+                        tolerance: float, start_level: int | None = None) -> Reconstruction:
+    """The concise polygon of one contour (§4), verified against its data ``points``.
+
+    Parameters
+    ----------
+    pyramid : the wavelet levels of the contour (`wavepoly.levels.decompose_contour`).
+    ordered : (k, 2) ordered points of the contour (the finest level's own points).
+    points : (n, 2) original data points of the contour.
+    tolerance : shape tolerance; every point ends within it of the polygon.
+    start_level : level to start extracting from (default: the pyramid's coarsest).
+    """
+    closed = pyramid.closed
+    level = pyramid.coarsest if start_level is None else start_level
+    params = point_parameters(points, pyramid)
+    alive = np.ones(len(points), dtype=bool)
+    gdl: list[Msc] = []
+    coeffs = pyramid.coefficients[level]
+    while True:
+        gdl += extract_mscs(points, alive, coeffs, level, closed, tolerance, gdl)
+        if not alive.any() or level == pyramid.finest:
+            break
+        coeffs = wavelets.synthesize(coeffs, pyramid.details[level], closed)  # eq. 11
+        level += 1
+    fine_u = wavelets.greville(pyramid.finest, closed)[pyramid.fine_index]
+    vertices, vparams = _assemble(gdl, ordered, fine_u, params[alive], closed)
+    vertices, vparams = _repair(vertices, vparams, ordered, fine_u, points, params, closed,
+                                tolerance)
+    n_wavelet = len(vertices)
+    vertices, vparams = prune_vertices(vertices, vparams, points, params, closed, tolerance)
+    dist = shapely.distance(shapely.points(points), _geometry(vertices, closed))
+    return Reconstruction(vertices, vparams, closed, gdl,
+                          pyramid.coarsest if start_level is None else start_level, n_wavelet,
+                          float(dist.max(initial=0.0)), float(dist.mean()) if len(dist) else 0.0)
+
+
+def _assemble(gdl: list[Msc], ordered: FloatArray, fine_u: FloatArray, alive_u: FloatArray,
+              closed: bool) -> tuple[FloatArray, FloatArray]:
+    """MSC coefficients in parameter order; finest-level points fill gaps that still hold data."""
+    if not gdl:
+        return ordered.copy(), fine_u.copy()
+    pts = [m.points for m in gdl]
+    us = [m.params for m in gdl]
+    fill = ~_inside(fine_u, gdl, closed)
+    if closed:
+        fill &= _gap_has_data(fine_u, alive_u, gdl)
+    else:
+        fill &= _gap_has_data(fine_u, alive_u, gdl) | (fine_u <= 0.0) | (fine_u >= 1.0)
+    pts.append(ordered[fill])
+    us.append(fine_u[fill])
+    v, u = np.concatenate(pts), np.concatenate(us)
+    order = np.argsort(np.mod(u, 1.0) if closed else u, kind="stable")
+    return v[order], u[order]
+
+
+def _gap_has_data(u: FloatArray, alive_u: FloatArray, gdl: list[Msc]) -> np.ndarray:
+    """For each parameter in ``u``: does the gap between MSCs that holds it hold live points?"""
+    bounds = np.sort(np.concatenate([[m.start for m in gdl],
+                                     [np.mod(m.start + m.span, 1.0) for m in gdl]]))
+    gap_of_u = np.searchsorted(bounds, np.mod(u, 1.0))
+    gap_of_p = np.searchsorted(bounds, np.mod(alive_u, 1.0))
+    live = np.zeros(len(bounds) + 1, dtype=bool)
+    live[gap_of_p] = True
+    live[0] = live[-1] = live[0] | live[-1]  # the two ends are one gap on a closed contour
+    return live[gap_of_u]
+
+
+def _geometry(vertices: FloatArray, closed: bool):
+    if closed and len(vertices) >= 3:
+        return shapely.linearrings(vertices)
+    return shapely.linestrings(vertices)
+
+
+def _edge_of(vparams: FloatArray, params: FloatArray, closed: bool) -> IntArray:
+    """Index of the polygon edge (vertex i to i+1) whose parameter span holds each point."""
+    k = len(vparams)
+    key = np.mod(vparams, 1.0) if closed else vparams
+    e = np.searchsorted(key, np.mod(params, 1.0) if closed else params, side="right") - 1
+    if closed:
+        return np.mod(e, k)
+    return np.clip(e, 0, k - 2)
+
+
+def own_edge_distance(vertices: FloatArray, vparams: FloatArray, points: FloatArray,
+                      params: FloatArray, closed: bool) -> FloatArray:
+    """Distance of each point to the polygon edge whose parameter span holds it.
+
+    This bounds the distance to the polygon; keeping it within the tolerance is the invariant
+    that repair establishes and pruning preserves.
+    """
+    e = _edge_of(vparams, params, closed)
+    return segment_distance(points, vertices[e], vertices[(e + 1) % len(vertices)])
+
+
+def _repair(vertices, vparams, ordered, fine_u, points, params, closed, tolerance):
+    """Insert finest-level points (or the data points themselves) until all are within tolerance.
+
+    Each round inserts, into every edge that one of its points is farther than the tolerance
+    from, the ordered point between the edge's ends that is farthest from it; an edge with no
+    ordered point inside gets its worst data point. Points inserted as vertices are at distance
+    0, so this ends.
+    """
+    limit = tolerance * (1 + SLACK)
+    for _ in range(len(points) + len(ordered) + 1):
+        dist = own_edge_distance(vertices, vparams, points, params, closed)
+        bad = dist > limit
+        if not bad.any():
+            break
+        edges = np.unique(_edge_of(vparams, params[bad], closed))
+        new_v, new_u = [], []
+        for e in edges:
+            v, u = _split_point(e, vertices, vparams, ordered, fine_u, points, params, dist,
+                                bad, closed)
+            new_v.append(v)
+            new_u.append(u)
+        vertices = np.vstack([vertices, new_v])
+        vparams = np.concatenate([vparams, new_u])
+        order = np.argsort(np.mod(vparams, 1.0) if closed else vparams, kind="stable")
+        vertices, vparams = vertices[order], vparams[order]
+    return vertices, vparams
+
+
+def _split_point(e, vertices, vparams, ordered, fine_u, points, params, dist, bad, closed):
+    k = len(vertices)
+    a, b = vparams[e], vparams[(e + 1) % k]
+    if closed:
+        span = np.mod(b - a, 1.0) or 1.0
+        inside = (np.mod(fine_u - a, 1.0) > 0) & (np.mod(fine_u - a, 1.0) < span)
+    else:
+        inside = (fine_u > a) & (fine_u < b)
+    cand = np.flatnonzero(inside)
+    if len(cand):
+        d = segment_distance(ordered[cand], vertices[e], vertices[(e + 1) % k])
+        if d.max() > 0:
+            j = cand[np.argmax(d)]
+            return ordered[j], fine_u[j]
+    in_edge = np.flatnonzero(bad & (_edge_of(vparams, params, closed) == e))
+    j = in_edge[np.argmax(dist[in_edge])]
+    return points[j], params[j]
+
+
+def prune_vertices(vertices: FloatArray, vparams: FloatArray, points: FloatArray,
+                   params: FloatArray, closed: bool, tolerance: float
+                   ) -> tuple[FloatArray, FloatArray]:
+    """Remove every vertex whose removal keeps all points within ``tolerance`` (verified).
+
+    Points are tied to the edge whose parameter span holds them (`own_edge_distance`, which the
+    repair has brought within the tolerance); removing vertex i is allowed when every point of
+    edges i-1 and i is within the tolerance of the chord from vertex i-1 to i+1, so the
+    invariant, and with it the tolerance, holds after every round. Each round removes the removable
+    vertices that are cheaper than their removable neighbours (never two adjacent ones).
+    """
+    limit = tolerance * (1 + SLACK)
+    min_keep = 3 if closed else 2
+    while len(vertices) > min_keep:
+        k = len(vertices)
+        e = _edge_of(vparams, params, closed)
+        idx = np.arange(k)
+        prev, nxt, nxt2 = (idx - 1) % k, (idx + 1) % k, (idx + 2) % k
+        cost = np.zeros(k)
+        # removing vertex e merges edges e-1 and e; removing e+1 merges edges e and e+1
+        np.maximum.at(cost, e, segment_distance(points, vertices[prev[e]], vertices[nxt[e]]))
+        np.maximum.at(cost, nxt[e], segment_distance(points, vertices[e], vertices[nxt2[e]]))
+        if not closed:
+            cost[[0, -1]] = np.inf
+        removable = cost <= limit
+        if not removable.any():
+            break
+        key = np.where(removable, cost, np.inf)
+        better_than_prev = (key < key[prev]) | ((key == key[prev]) & (idx < prev))
+        better_than_next = (key < key[nxt]) | ((key == key[nxt]) & (idx < nxt))
+        drop = removable & better_than_prev & better_than_next
+        if not closed:
+            drop[[0, -1]] = False
+        drop[np.flatnonzero(drop)[k - min_keep:]] = False  # never below a segment or triangle
+        vertices, vparams = vertices[~drop], vparams[~drop]
+    return vertices, vparams

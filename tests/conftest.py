@@ -1,0 +1,26 @@
+"""Shared fixtures: the real data in ../shared/data (skipped cleanly when absent)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import shapely
+
+SHARED = Path(__file__).resolve().parents[1].parent / "shared" / "data"
+
+
+@pytest.fixture(scope="session")
+def shared_data() -> Path:
+    if not SHARED.is_dir():
+        pytest.skip(f"shared data not found at {SHARED} (only on the developers' machines)")
+    return SHARED
+
+
+def distance_to_output(points: np.ndarray, result) -> np.ndarray:
+    """Independent check: distance of each point to the output contours, with shapely."""
+    geoms = [shapely.linearrings(c.vertices) if c.closed else shapely.linestrings(c.vertices)
+             for c in result.contours]
+    union = shapely.union_all(geoms)
+    return shapely.distance(shapely.points(points), union)

@@ -1,0 +1,105 @@
+"""The command line: exit codes, one-line errors, no half-written outputs, info on real files."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from wavepoly.samples import glyph_outlines, sample_rings
+
+
+def run(*args: str, cwd=None) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "wavepoly", *map(str, args)],
+                          capture_output=True, text=True, cwd=cwd, timeout=300)
+
+
+@pytest.fixture(scope="module")
+def glyph_file(tmp_path_factory):
+    pts = sample_rings(glyph_outlines("O").rings, spacing=0.03, noise=0.01, seed=1)
+    path = tmp_path_factory.mktemp("cli") / "o.xy"
+    np.savetxt(path, pts)
+    return path
+
+
+def test_help_and_version():
+    out = run("--help")
+    assert out.returncode == 0
+    for cmd in ("info", "order", "fit", "demo"):
+        assert cmd in out.stdout
+    version = run("--version")
+    assert version.returncode == 0 and version.stdout.startswith("wavepoly ")
+
+
+def test_info(glyph_file):
+    out = run("info", glyph_file)
+    assert out.returncode == 0, out.stderr
+    assert "points:" in out.stdout and "suggested tolerance" in out.stdout
+
+
+def test_info_walks_shared_data(shared_data):
+    for name in ("scans3d/turbineblade.ply", "curves2d/hnn_crust/family.gtn",
+                 "scans3d/bunny_range_scans/bun000.ply", "curves2d/noisy_sets/stair.xym"):
+        out = run("info", shared_data / name)
+        assert out.returncode == 0, (name, out.stderr)
+        assert "dimensions:" in out.stdout
+
+
+def test_fit_writes_outputs(glyph_file, tmp_path):
+    out = run("fit", glyph_file, "-t", "0.08", "-o", tmp_path / "o.geojson",
+              "--report", tmp_path / "r.json", "--plot", tmp_path / "f.png")
+    assert out.returncode == 0, out.stderr
+    doc = json.loads((tmp_path / "o.geojson").read_text())
+    assert doc["features"][0]["geometry"]["type"] == "Polygon"
+    assert len(doc["features"][0]["geometry"]["coordinates"]) == 2  # the O and its hole
+    report = json.loads((tmp_path / "r.json").read_text())
+    assert report["max_error"] <= 0.08
+    keys = {"input_points", "ordered_points", "levels_decomposed", "coarsest_level",
+            "mscs_per_level", "wavelet_vertices", "final_vertices", "max_error", "mean_error",
+            "closed"}
+    assert keys <= set(report["contours"][0])
+    assert set(report["timings"]) >= {"ordering", "decomposition", "reconstruction"}
+    assert (tmp_path / "f.png").stat().st_size > 1000
+
+
+@pytest.mark.parametrize("content", ["", "1 2\n", "1 2\n1 2\n1 2\n", "1 2\nnan 1\n3 3\n",
+                                     "1 2\n3 4\njunk here\n"])
+def test_bad_data_exit_1(tmp_path, content):
+    src = tmp_path / "bad.xy"
+    src.write_text(content)
+    out = run("fit", src, "-t", "0.1", "-o", tmp_path / "out.geojson")
+    assert out.returncode == 1
+    assert out.stderr.startswith("error: ") and "bad.xy" in out.stderr
+    assert len(out.stderr.strip().splitlines()) == 1 and "Traceback" not in out.stderr
+    assert not (tmp_path / "out.geojson").exists()
+
+
+def test_missing_file_and_directory(tmp_path):
+    for target, message in ((tmp_path / "none.xy", "no such file"), (tmp_path, "directory")):
+        out = run("info", target)
+        assert out.returncode == 1 and message in out.stderr
+
+
+@pytest.mark.parametrize("tol", ["0", "-1", "nan"])
+def test_bad_tolerance_exit_2(glyph_file, tmp_path, tol):
+    out = run("fit", glyph_file, "-t", tol, "-o", tmp_path / "out.geojson")
+    assert out.returncode == 2
+    assert "tolerance" in out.stderr and "Traceback" not in out.stderr
+    assert not (tmp_path / "out.geojson").exists()
+
+
+def test_usage_errors_exit_2(glyph_file, tmp_path):
+    assert run("fit", glyph_file).returncode == 2  # missing options
+    assert run("nonsense").returncode == 2
+    out = run("fit", glyph_file, "-t", "0.1", "-o", tmp_path / "out.xyz")
+    assert out.returncode == 2 and "output must end" in out.stderr
+
+
+def test_debug_shows_traceback(tmp_path):
+    src = tmp_path / "bad.xy"
+    src.write_text("1 2\n")
+    out = run("--debug", "info", src)
+    assert out.returncode != 0 and "Traceback" in out.stderr

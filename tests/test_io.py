@@ -1,0 +1,215 @@
+"""Readers and writers: every format, the real files in ../shared/data, and bad input."""
+
+from __future__ import annotations
+
+import gzip
+import json
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import pytest
+
+from wavepoly.errors import DataError
+from wavepoly.io import read_points, write_polygons
+from wavepoly.io.atomic import atomic_path
+from wavepoly.io.readers import as_planar
+from wavepoly.types import Contour, FitResult
+
+NOT_POINTS = {"README.md", "README.txt", "README", "LICENSE", "gpl.txt", "bun.conf"}
+EXPECTED_COUNTS = {"bunny_zipper.ply": 35947, "turbineblade.ply": 99519, "distcap.pts": 12745,
+                   "cactus.pts": 3318, "family.gtn": 9990, "ventilator.gtn": 194}
+
+
+def shared_point_files(root):
+    """Every point file: not the licences/READMEs, nor the ground-truth SVG drawings (curves)."""
+    return sorted(p for p in root.rglob("*")
+                  if p.is_file() and p.name not in NOT_POINTS and p.suffix != ".svg")
+
+
+def test_every_shared_file_reads(shared_data):
+    files = shared_point_files(shared_data)
+    assert len(files) >= 35
+    for path in files:
+        pts = read_points(path)
+        assert pts.ndim == 2 and pts.shape[1] in (2, 3) and len(pts) >= 10, path
+        assert np.isfinite(pts).all()
+        if path.name in EXPECTED_COUNTS:
+            assert len(pts) == EXPECTED_COUNTS[path.name], path
+
+
+def test_licence_text_is_a_clear_error(shared_data):
+    with pytest.raises(DataError, match="gpl.txt"):
+        read_points(shared_data / "curves2d" / "noisy_sets" / "gpl.txt")
+
+
+def test_carmen_log_gives_world_points(shared_data):
+    pts = read_points(shared_data / "lidar2d" / "intel-corrected.log.gz")
+    assert pts.shape[1] == 2
+    assert 100_000 < len(pts) < 170_000  # ~160k returns less the no-returns
+    extent = np.ptp(pts, axis=0)
+    assert (extent > 10).all() and (extent < 100).all()  # a building, in metres
+
+
+def test_hoppe_and_gtn_headers(shared_data):
+    pts = read_points(shared_data / "scans3d" / "cactus.pts")
+    assert pts.shape == (3318, 3)
+    gtn = read_points(shared_data / "curves2d" / "hnn_crust" / "ventilator.gtn")
+    p2d = read_points(shared_data / "curves2d" / "hnn_crust" / "ventilator.p2d")
+    np.testing.assert_allclose(gtn, p2d)
+
+
+def test_text_variants(tmp_path):
+    f = tmp_path / "a.csv"
+    f.write_text("x,y,z\n# comment\n1,2,3\n4,5,6  # trailing\n\n7,8,9\n")
+    np.testing.assert_array_equal(read_points(f), [[1, 2, 3], [4, 5, 6], [7, 8, 9]])
+    np.testing.assert_array_equal(read_points(f, columns=(2, 0)), [[3, 1], [6, 4], [9, 7]])
+    xy = tmp_path / "b.xy"
+    xy.write_text("0 0 1\n1 0 1\n1 1 1\n")
+    assert read_points(xy).shape == (3, 2)
+    with pytest.raises(DataError, match="column 5"):
+        read_points(f, columns=(0, 5))
+
+
+def test_npy_ply_obj_off_pcd_las(tmp_path):
+    pts = np.random.default_rng(0).normal(size=(50, 3))
+    np.save(tmp_path / "p.npy", pts)
+    np.testing.assert_allclose(read_points(tmp_path / "p.npy"), pts)
+
+    from plyfile import PlyData, PlyElement
+
+    vert = np.array([tuple(p) for p in pts], dtype=[("x", "f8"), ("y", "f8"), ("z", "f8")])
+    for text in (True, False):
+        path = tmp_path / f"p{text}.ply"
+        PlyData([PlyElement.describe(vert, "vertex")], text=text).write(str(path))
+        np.testing.assert_allclose(read_points(path), pts, atol=1e-6)
+
+    (tmp_path / "m.obj").write_text("".join(f"v {x} {y} {z}\n" for x, y, z in pts) + "f 1 2 3\n")
+    np.testing.assert_allclose(read_points(tmp_path / "m.obj"), pts)
+    (tmp_path / "m.off").write_text("OFF\n50 1 0\n" + "".join(f"{x} {y} {z}\n" for x, y, z in pts)
+                                    + "3 0 1 2\n")
+    np.testing.assert_allclose(read_points(tmp_path / "m.off"), pts)
+
+    header = ("VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 50\n"
+              "HEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 50\n")
+    (tmp_path / "a.pcd").write_text(header + "DATA ascii\n" +
+                                    "".join(f"{x} {y} {z}\n" for x, y, z in pts))
+    np.testing.assert_allclose(read_points(tmp_path / "a.pcd"), pts, atol=1e-6)
+    (tmp_path / "b.pcd").write_bytes((header + "DATA binary\n").encode() +
+                                     pts.astype("<f4").tobytes())
+    np.testing.assert_allclose(read_points(tmp_path / "b.pcd"), pts, atol=1e-6)
+    (tmp_path / "c.pcd").write_bytes((header + "DATA binary_compressed\n").encode() + b"\0" * 8)
+    with pytest.raises(DataError, match="binary_compressed"):
+        read_points(tmp_path / "c.pcd")
+
+    import laspy
+
+    las = laspy.create(point_format=3, file_version="1.2")
+    las.header.scales = [0.001] * 3
+    las.header.offsets = [0.0] * 3
+    las.x, las.y, las.z = pts[:, 0], pts[:, 1], pts[:, 2]
+    for ext in ("las", "laz"):
+        las.write(str(tmp_path / f"p.{ext}"))
+        np.testing.assert_allclose(read_points(tmp_path / f"p.{ext}"), pts, atol=1e-3)
+
+
+def test_carmen_synthetic(tmp_path):
+    ranges = ["1.0", "81.9", "2.0"]  # the middle beam is a no-return (sensor maximum)
+    line = f"FLASER 3 {' '.join(ranges)} 1.0 2.0 0.0 0 0 0 0 host 0\n"
+    path = tmp_path / "s.log.gz"
+    with gzip.open(path, "wt") as fh:
+        fh.write("# header\nODOM 0 0 0 0 0 0 0\n" + line + line.replace("2.0 0.0", "2.0 1.5708"))
+    pts = read_points(path, fmt="carmen")
+    # beams at -90 and +90 degrees about theta = 0 from (1, 2): (1, 1) and (1, 4)
+    np.testing.assert_allclose(pts[:2], [[1.0, 1.0], [1.0, 4.0]], atol=1e-9)
+    assert len(pts) == 4
+
+
+@pytest.mark.parametrize("content, message", [
+    ("", "no numeric rows"),
+    ("# only a comment\n", "no numeric rows"),
+    ("1 2\n", "only 1 point"),
+    ("1 2\n1 2\n1 2\n", "identical"),
+    ("1 2\nnan 3\n4 5\n", "NaN"),
+    ("1 2\ninf 3\n4 5\n", "NaN or infinite"),
+    ("1 2\n3 4\nhello world\n", "line 3 is not numeric"),
+    ("1\n2\n3\n", "need 2 or more"),
+])
+def test_bad_text_input(tmp_path, content, message):
+    path = tmp_path / "bad.xyz"
+    path.write_text(content)
+    with pytest.raises(DataError, match=message) as info:
+        read_points(path)
+    assert str(path) in str(info.value)
+
+
+def test_missing_directory_unknown_and_truncated(tmp_path):
+    with pytest.raises(DataError, match="no such file"):
+        read_points(tmp_path / "nope.xyz")
+    with pytest.raises(DataError, match="is a directory"):
+        read_points(tmp_path)
+    (tmp_path / "a.weird").write_text("1 2\n")
+    with pytest.raises(DataError, match="unknown point format"):
+        read_points(tmp_path / "a.weird")
+    from plyfile import PlyData, PlyElement
+
+    vert = np.zeros(100, dtype=[("x", "f4"), ("y", "f4"), ("z", "f4")])
+    full = tmp_path / "full.ply"
+    PlyData([PlyElement.describe(vert, "vertex")], text=False).write(str(full))
+    cut = tmp_path / "cut.ply"
+    cut.write_bytes(full.read_bytes()[:-200])
+    with pytest.raises(DataError, match="cut.ply"):
+        read_points(cut)
+
+
+def test_as_planar():
+    flat = np.column_stack([np.zeros(5), np.arange(5.0), np.arange(5.0) ** 2])
+    np.testing.assert_array_equal(as_planar(flat), flat[:, 1:])
+    with pytest.raises(DataError, match="3D"):
+        as_planar(np.random.default_rng(0).normal(size=(10, 3)))
+
+
+def _nested_result() -> FitResult:
+    square = lambda s, o=0.0: np.array([[o, o], [s, o], [s, s], [o, s]], dtype=float)  # noqa: E731
+    outer = Contour(square(10.0), True, 0.01)
+    hole = Contour(square(8.0, 2.0)[::-1], True, 0.02)
+    island = Contour(square(5.0, 4.0), True)
+    line = Contour(np.array([[20.0, 0.0], [25.0, 5.0]]), False)
+    return FitResult([outer, hole, island, line], 0.1, 0.02, 0.01, np.empty(0, int), 100,
+                     parents=[-1, 0, 1, -1])
+
+
+def test_geojson_nesting(tmp_path):
+    path = tmp_path / "out.geojson"
+    write_polygons(path, _nested_result())
+    doc = json.loads(path.read_text())
+    kinds = [f["geometry"]["type"] for f in doc["features"]]
+    assert kinds == ["Polygon", "Polygon", "LineString"]  # outer+hole, island, open line
+    assert len(doc["features"][0]["geometry"]["coordinates"]) == 2  # shell and one hole
+    ring = doc["features"][0]["geometry"]["coordinates"][0]
+    assert ring[0] == ring[-1]
+
+
+def test_svg_dxf_csv(tmp_path):
+    result = _nested_result()
+    write_polygons(tmp_path / "o.svg", result)
+    root = ET.parse(tmp_path / "o.svg").getroot()
+    paths = root.findall(".//{http://www.w3.org/2000/svg}path")
+    assert len(paths) == 4 and paths[0].get("d").endswith("Z")
+    write_polygons(tmp_path / "o.dxf", result)
+    import ezdxf
+
+    polylines = list(ezdxf.readfile(tmp_path / "o.dxf").modelspace().query("LWPOLYLINE"))
+    assert [p.closed for p in polylines] == [True, True, True, False]
+    write_polygons(tmp_path / "o.csv", result)
+    rows = (tmp_path / "o.csv").read_text().splitlines()
+    assert rows[0] == "contour,vertex,x,y,closed" and len(rows) == 1 + 4 + 4 + 4 + 2
+    with pytest.raises(DataError, match="unknown polygon format"):
+        write_polygons(tmp_path / "o.xyz", result)
+
+
+def test_atomic_write_leaves_nothing_on_failure(tmp_path):
+    target = tmp_path / "out.txt"
+    with pytest.raises(RuntimeError), atomic_path(target) as tmp:
+        tmp.write_text("half")
+        raise RuntimeError("interrupted")
+    assert list(tmp_path.iterdir()) == []
