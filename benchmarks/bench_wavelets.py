@@ -24,9 +24,12 @@ def run() -> str:
             t0 = time.perf_counter()
             wavelets.decompose(c, depth, closed=closed)
             cold = time.perf_counter() - t0
-            warm, (coarse, details) = best_time(lambda: wavelets.decompose(c, depth,
+            warm, (coarse, details) = best_time(
+                lambda c=c, depth=depth, closed=closed: wavelets.decompose(c, depth,
                                                                            closed=closed))
-            rec, back = best_time(lambda: wavelets.reconstruct(coarse, details, closed=closed))
+            rec, back = best_time(
+                lambda coarse=coarse, details=details, closed=closed: wavelets.reconstruct(
+                    coarse, details, closed=closed))
             err = float(np.abs(back - c).max() / np.abs(c).max())
             rows.append(["closed" if closed else "open", f"2^{level}", len(c), cold, warm,
                          len(c) / warm / 1e6, rec, err])

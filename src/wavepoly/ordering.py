@@ -34,6 +34,7 @@ from scipy.sparse.csgraph import connected_components, depth_first_order
 from scipy.spatial import cKDTree
 
 from .errors import DataError, check_tolerance
+from .geometry import nearest_segment
 from .io.readers import validate_points
 from .types import FloatArray, IntArray, OrderedContour, Ordering
 
@@ -408,27 +409,59 @@ def _intersect(a0, a1, b0, b1) -> FloatArray | None:
 def _contours(pts: FloatArray, tree: cKDTree, nodes: _Nodes,
               chains: list[tuple[IntArray, bool]], radius: float, min_points: int
               ) -> tuple[list[OrderedContour], IntArray]:
-    owner_chain = np.full(len(nodes.xy), -1)
-    for c, (seq, _) in enumerate(chains):
-        owner_chain[seq] = c
-    _, nearest = cKDTree(nodes.xy).query(pts)
-    chain_of_point = owner_chain[nearest]
+    """Contours from chains of at least ``min_points`` nodes, each with its member points.
+
+    A point belongs to the contour of its nearest node among those contours (within 2 x radius;
+    farther points, and the points of shorter chains that no contour is near, are outliers).
+    """
+    chains = [(seq, closed) for seq, closed in chains if len(seq) >= min_points]
+    if not chains:
+        return [], np.arange(len(pts), dtype=np.intp)
+    node_ids = np.concatenate([seq for seq, _ in chains])
+    owner = np.repeat(np.arange(len(chains)), [len(seq) for seq, _ in chains])
+    dist, nearest = cKDTree(nodes.xy[node_ids]).query(pts, distance_upper_bound=2.0 * radius)
+    chain_of_point = np.where(np.isfinite(dist), owner[np.minimum(nearest, len(owner) - 1)], -1)
     order = np.argsort(chain_of_point, kind="stable")
     bounds = np.searchsorted(chain_of_point[order], np.arange(len(chains) + 1))
     contours: list[OrderedContour] = []
     outliers = [np.flatnonzero(chain_of_point < 0)]
     for c, (seq, closed) in enumerate(chains):
         members = order[bounds[c]:bounds[c + 1]]
-        if len(seq) < min_points:
-            outliers.append(members)
-            continue
         xy = _sharpen_corners(nodes.xy[seq], closed, tree, radius)
         if not closed:
             xy = _extend_ends(xy, pts[members], radius)
+        xy = _cover_cut_corners(xy, pts[members], closed, radius)
         far = _distance_to_polyline(pts[members], xy, closed) > radius
         outliers.append(members[far])
         contours.append(OrderedContour(xy, closed, np.sort(members[~far])))
     return contours, np.sort(np.concatenate(outliers)).astype(np.intp)
+
+
+def _cover_cut_corners(xy: FloatArray, members: FloatArray, closed: bool, radius: float,
+                       rounds: int = 4) -> FloatArray:
+    """Insert member points where a group of them lies off the chain (a corner it cut).
+
+    Where at least 3 points tied to one chain segment are farther than 0.6 x radius from the
+    chain, the farthest of them is inserted into that segment; a few rounds of this put a point
+    on a corner that neighbourhood averaging rounded off. Lone noisy points never qualify.
+    """
+    for _ in range(rounds):
+        line = shapely.linearrings(xy) if closed and len(xy) >= 3 else shapely.linestrings(xy)
+        probe = shapely.points(members)
+        dist = shapely.distance(probe, line)
+        far = np.flatnonzero(dist > 0.6 * radius)
+        if len(far) < 3:
+            break
+        seg, _ = nearest_segment(members[far], xy, closed)
+        counts = np.bincount(seg, minlength=len(xy))
+        worst = np.full(len(xy), -1)
+        order = np.argsort(dist[far])
+        worst[seg[order]] = far[order]  # the last write per segment is its farthest point
+        segs = np.flatnonzero((counts >= 3) & (worst >= 0))
+        if not len(segs):
+            break
+        xy = np.insert(xy, segs + 1, members[worst[segs]], axis=0)
+    return xy
 
 
 def _extend_ends(xy: FloatArray, members: FloatArray, radius: float) -> FloatArray:

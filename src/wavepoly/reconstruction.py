@@ -11,8 +11,9 @@ every data point gets the parameter of its projection on the finest control poly
 an MSC", "between two MSCs" and "the edge that stands for a point" are comparisons of numbers.
 
 The polygon is then made honest: every data point of the contour is measured against the edge
-that stands for it (which bounds its distance to the polygon), and wherever the tolerance breaks, the finest-level point (or, failing that, the data point itself)
-that restores it is inserted. Finally every vertex whose removal keeps all points within the
+that stands for it (which bounds its distance to the polygon), and wherever the tolerance
+breaks, the finest-level point (or, failing that, the data point itself) that restores it is
+inserted. Finally every vertex whose removal keeps all points within the
 tolerance is removed, in rounds of non-adjacent vertices.
 """
 

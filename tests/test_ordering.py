@@ -1,0 +1,218 @@
+"""Ordering (paper §2): contour counts, closure, order against ground truth, properties."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import shapely
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from wavepoly.errors import DataError, ParameterError
+from wavepoly.ordering import curve_spacing, order_points
+from wavepoly.samples import glyph_outlines, sample_rings
+
+from .truth import densify, diagonal, order_agreement, svg_shape
+
+SINGLE_CURVES = ["simple", "blob2", "complex", "spiral"]
+JUNCTIONS = ["Deery", "Fishi", "Goldi", "Porpi", "Snail", "f1", "f2", "f3", "f4"]
+
+
+def distance_to_contour(points, contour):
+    geom = (shapely.linearrings(contour.points) if contour.closed
+            else shapely.linestrings(contour.points))
+    return shapely.distance(shapely.points(points), geom)
+
+
+def check_coverage(pts, ordering):
+    """Every input point is a member of exactly one contour or an outlier, within the radius."""
+    seen = np.concatenate([c.members for c in ordering.contours] + [ordering.outliers])
+    assert np.array_equal(np.sort(seen), np.arange(len(pts)))
+    for c in ordering.contours:
+        assert distance_to_contour(pts[c.members], c).max() <= ordering.radius + 1e-9
+
+
+@pytest.mark.parametrize("name", SINGLE_CURVES)
+@pytest.mark.parametrize("noise", [0.0, 1 / 8])
+def test_svg_single_curves(shared_data, name, noise):
+    shape = svg_shape(shared_data / "curves2d" / "ground_truth_svg" / f"{name}.svg")
+    eps = diagonal(shape) / 300
+    pts = sample_rings(shape.rings, spacing=eps / 5, noise=noise * eps, closed=shape.closed,
+                       seed=1)
+    ordering = order_points(pts, eps)
+    assert [c.closed for c in ordering.contours] == [True]
+    _, tau = order_agreement(ordering.contours[0].points, shape, closed=True)
+    assert tau >= 0.99
+    assert len(ordering.outliers) <= 0.01 * len(pts)
+    check_coverage(pts, ordering)
+
+
+@pytest.mark.parametrize("name", JUNCTIONS)
+def test_svg_drawings_with_junctions_stay_sane(shared_data, name):
+    """Strokes that touch have no simple contour count: no crash, full coverage, few outliers."""
+    shape = svg_shape(shared_data / "curves2d" / "ground_truth_svg" / f"{name}.svg")
+    eps = diagonal(shape) / 300
+    pts = sample_rings(shape.rings, spacing=eps / 5, noise=eps / 8, closed=shape.closed, seed=2)
+    ordering = order_points(pts, eps)
+    assert ordering.contours
+    assert len(ordering.outliers) <= 0.01 * len(pts)
+    check_coverage(pts, ordering)
+
+
+@pytest.mark.parametrize("text, rings", [("B", 3), ("8", 3), ("&", 2), ("kx", 2), ("O", 2),
+                                         ("i", 2), ("%", 5)])
+@pytest.mark.parametrize("noise", [0.0, 0.02])
+def test_glyph_contours_closure_and_order(text, rings, noise):
+    shape = glyph_outlines(text)
+    assert len(shape.rings) == rings
+    pts = sample_rings(shape.rings, spacing=0.012, noise=noise, seed=4)
+    ordering = order_points(pts, 0.08)
+    assert len(ordering.contours) == rings
+    assert all(c.closed for c in ordering.contours)
+    found = set()
+    truth = densify(shape, 0.005)
+    for c in ordering.contours:
+        ring, tau = order_agreement(c.points, truth, closed=True)
+        assert tau >= 0.99, (text, ring, tau)
+        found.add(ring)
+    assert found == set(range(rings))  # one contour per true ring
+    assert len(ordering.outliers) <= 0.01 * len(pts)
+    check_coverage(pts, ordering)
+
+
+def test_open_curves_and_islands():
+    t = np.linspace(0, 1, 3000)
+    arc = np.column_stack([10 * np.cos(2 * t), 10 * np.sin(2 * t)])  # an open arc
+    line = np.column_stack([np.linspace(-5, 5, 1000), np.full(1000, -3.0)])  # an open segment
+    ring = np.column_stack([2 * np.cos(6 * t) + 20, 2 * np.sin(6.2832 * t)])  # a closed island
+    pts = np.vstack([arc, line, ring])
+    pts = pts[np.random.default_rng(0).permutation(len(pts))]
+    ordering = order_points(pts, 0.1)
+    flags = sorted(c.closed for c in ordering.contours)
+    assert flags == [False, False, True]
+    for c in ordering.contours:
+        if not c.closed:  # the ends reach the ends of the data
+            ends = pts[c.members][[0, -1]]
+            assert np.linalg.norm(c.points[[0, -1]] - c.points[[0, -1]], axis=1).max() == 0
+            assert len(ends) == 2
+
+
+def test_corner_is_kept_not_cut():
+    square = np.array([[0, 0], [10, 0], [10, 10], [0, 10]], dtype=float)
+    pts = sample_rings([square], spacing=0.01, noise=0.01, seed=5)
+    ordering = order_points(pts, 0.1)
+    (contour,) = ordering.contours
+    for corner in square:  # an ordered point sits on every corner (within the noise)
+        assert np.linalg.norm(contour.points - corner, axis=1).min() < 0.05
+
+
+def test_density_varies_by_five():
+    shape = glyph_outlines("D")
+    pts = sample_rings(shape.rings, spacing=0.012, noise=0.01, density_ratio=5.0, seed=6)
+    ordering = order_points(pts, 0.08)
+    assert len(ordering.contours) == 2 and all(c.closed for c in ordering.contours)
+
+
+def test_sparse_points_widen_the_radius():
+    t = np.linspace(0, 2 * np.pi, 300, endpoint=False)
+    pts = np.column_stack([np.cos(t), np.sin(t)]) * 10  # spacing ~0.21
+    ordering = order_points(pts, 0.1)
+    assert ordering.radius > 0.5 and "widened" in ordering.notes[0]
+    assert len(ordering.contours) == 1 and ordering.contours[0].closed
+
+
+def test_close_walls_are_reported():
+    x = np.linspace(0, 10, 4000)
+    pts = np.vstack([np.column_stack([x, np.zeros_like(x)]),
+                     np.column_stack([x, np.full_like(x, 0.09)])])  # 0.9 radii apart
+    pts = pts[np.random.default_rng(1).permutation(len(pts))]
+    ordering = order_points(pts, 0.1)
+    assert len(ordering.contours) == 1 and len(ordering.merged_walls) > 0
+    assert any("merged" in n for n in ordering.notes)
+
+
+def test_isolated_outliers_are_counted():
+    shape = glyph_outlines("O")
+    pts = sample_rings(shape.rings, spacing=0.012, noise=0.01, seed=7)
+    stray = np.array([[50.0, 50.0], [-30.0, 5.0], [10.0, 40.0]])
+    ordering = order_points(np.vstack([pts, stray]), 0.08)
+    assert set(range(len(pts), len(pts) + 3)) <= set(ordering.outliers.tolist())
+    assert len(ordering.contours) == 2
+
+
+def test_bad_input():
+    with pytest.raises(DataError):
+        order_points(np.empty((0, 2)), 0.1)
+    with pytest.raises(DataError, match="NaN"):
+        order_points(np.array([[0.0, 0.0], [np.nan, 1.0]]), 0.1)
+    with pytest.raises(ParameterError):
+        order_points(np.random.default_rng(0).normal(size=(10, 2)), 0.0)
+
+
+def test_shared_real_scans(shared_data):
+    from wavepoly.io import read_points
+
+    pts = read_points(shared_data / "curves2d" / "noisy_sets" / "Keyboard0.txt")
+    radius = 3 * curve_spacing(pts)
+    ordering = order_points(pts, radius)
+    assert sum(c.closed for c in ordering.contours) >= 1
+    assert len(ordering.outliers) <= 0.02 * len(pts)
+    check_coverage(pts, ordering)
+
+
+@st.composite
+def smooth_closed_curve(draw):
+    """A random star-shaped closed curve r(t) = 1 + sum a_k cos(k t + p_k), sampled and noisy."""
+    k = draw(st.integers(1, 4))
+    amps = draw(st.lists(st.floats(0.0, 0.25 / k), min_size=k, max_size=k))
+    phases = draw(st.lists(st.floats(0, 6.28), min_size=k, max_size=k))
+    n = draw(st.integers(1500, 4000))
+    seed = draw(st.integers(0, 10**6))
+    rng = np.random.default_rng(seed)
+    t = rng.uniform(0, 2 * np.pi, n)
+    r = 10 * (1 + sum(a * np.cos((j + 2) * t + p) for j, (a, p) in enumerate(zip(amps, phases))))
+    pts = np.column_stack([r * np.cos(t), r * np.sin(t)])
+    return pts + rng.normal(0, 0.01, pts.shape), seed
+
+
+@settings(max_examples=15, deadline=None)
+@given(smooth_closed_curve())
+def test_property_closed_curves(data):
+    pts, seed = data
+    ordering = order_points(pts, 0.15, seed=seed % 7)
+    check_coverage(pts, ordering)
+    assert len(ordering.contours) == 1 and ordering.contours[0].closed
+    # the result does not depend on the input order of the points (only on the seed)
+    perm = np.random.default_rng(seed).permutation(len(pts))
+    again = order_points(pts[perm], 0.15, seed=seed % 7)
+    assert len(again.contours) == 1
+    assert abs(len(again.contours[0].points) - len(ordering.contours[0].points)) <= 0.05 * len(
+        ordering.contours[0].points)
+
+
+@st.composite
+def polyline_with_corners(draw):
+    """A random open polyline with 3-6 corners (turns of 40-140 degrees), sampled and noisy."""
+    n_seg = draw(st.integers(3, 6))
+    turns = draw(st.lists(st.floats(40, 140), min_size=n_seg, max_size=n_seg))
+    signs = draw(st.lists(st.sampled_from([-1, 1]), min_size=n_seg, max_size=n_seg))
+    heading, p, verts = 0.0, np.zeros(2), [np.zeros(2)]
+    for turn, sign in zip(turns, signs):
+        p = p + 4.0 * np.array([np.cos(heading), np.sin(heading)])
+        verts.append(p)
+        heading += np.radians(turn) * sign
+    verts = np.array(verts)
+    seed = draw(st.integers(0, 10**6))
+    return verts, seed
+
+
+@settings(max_examples=15, deadline=None)
+@given(polyline_with_corners())
+def test_property_polylines_with_corners(data):
+    verts, seed = data
+    pts = sample_rings([verts], spacing=0.01, noise=0.005, closed=[False], seed=seed)
+    if shapely.linestrings(verts).is_simple is False:
+        return  # self-crossing polylines have junctions, like the drawings above
+    ordering = order_points(pts, 0.1, seed=seed % 5)
+    check_coverage(pts, ordering)
+    assert len(ordering.outliers) <= 0.01 * len(pts)
