@@ -2,11 +2,19 @@
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import numpy as np
 import pytest
 import shapely
+from hypothesis import settings
+
+# CI runs the same examples every time (a red run must be reproducible); set
+# WAVEPOLY_HYPOTHESIS=explore to search fresh random examples locally.
+settings.register_profile("ci", derandomize=True, deadline=None, print_blob=True)
+settings.register_profile("explore", derandomize=False, deadline=None, print_blob=True)
+settings.load_profile(os.environ.get("WAVEPOLY_HYPOTHESIS", "ci"))
 
 SHARED = Path(__file__).resolve().parents[1].parent / "shared" / "data"
 

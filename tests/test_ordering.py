@@ -216,3 +216,19 @@ def test_property_polylines_with_corners(data):
     ordering = order_points(pts, 0.1, seed=seed % 5)
     check_coverage(pts, ordering)
     assert len(ordering.outliers) <= 0.01 * len(pts)
+
+
+@pytest.mark.parametrize("seed", [0, 2, 4])
+@pytest.mark.parametrize("run", [0.35, 0.4, 0.45])
+def test_short_run_between_gaps_does_not_close_on_itself(seed, run):
+    """Regression (found by hypothesis): a short, nearly straight run between two scan gaps
+    has its two ends within the join distance; it must bridge the gaps, not become a loop."""
+    rng = np.random.default_rng(seed)
+    t = rng.uniform(0, 2 * np.pi, 1800)
+    arc, gap = 10 * t, 0.33
+    cut = ((arc > 20) & (arc < 20 + gap)) | ((arc > 20 + gap + run) & (arc < 20 + 2 * gap + run))
+    t = t[~cut]
+    pts = np.column_stack([10 * np.cos(t), 10 * np.sin(t)])
+    ordering = order_points(pts, 0.15)
+    assert len(ordering.contours) == 1 and ordering.contours[0].closed
+    check_coverage(pts, ordering)

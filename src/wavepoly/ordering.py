@@ -248,7 +248,8 @@ def _join_ends(nodes: _Nodes, links: IntArray, radius: float) -> IntArray:
     Ends join within 3 x radius whatever their directions (sharp corners, where both neighbours
     of the corner node lie ahead of its tangent), and across a gap of up to 5 x radius when each
     end faces the other (a gap in the scan). A chain's two ends join only when the chain is long
-    enough to close on itself. The joining repeats, so a lone node can bridge a gap.
+    enough to close on itself and one end points at the other. The joining repeats, so a
+    lone node can bridge a gap.
     """
     n = len(nodes.xy)
     for _ in range(8):
@@ -267,11 +268,15 @@ def _join_ends(nodes: _Nodes, links: IntArray, radius: float) -> IntArray:
             cand = np.minimum(nbr[:, col], len(free) - 1)
             ok = np.isfinite(dist[:, col]) & (best < 0)
             same = comp[free] == comp[free[cand]]
-            ok &= ~same | (size[comp[free]] >= 4)
             ok &= ~_linked(links, free, free[cand], n)
             gap = nodes.xy[free[cand]] - nodes.xy[free]
-            facing = (np.einsum("ij,ij->i", gap, outward) > 0.7 * dist[:, col]) & (
-                np.einsum("ij,ij->i", -gap, outward[cand]) > 0.7 * dist[:, col])
+            ahead = np.einsum("ij,ij->i", gap, outward)
+            ahead_other = np.einsum("ij,ij->i", -gap, outward[cand])
+            # a chain closes on itself only when one of its ends points at the other: a short
+            # straight run has its ends close together too, but both face away (at a sharp
+            # notch one end may overshoot the other, so one end facing is enough)
+            ok &= ~same | ((size[comp[free]] >= 4) & ((ahead > 0) | (ahead_other > 0)))
+            facing = (ahead > 0.7 * dist[:, col]) & (ahead_other > 0.7 * dist[:, col])
             ok &= (dist[:, col] <= 3.0 * radius) | facing
             best[ok] = cand[ok]
         mutual = (best >= 0) & (best[np.maximum(best, 0)] == np.arange(len(free)))
