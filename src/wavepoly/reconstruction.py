@@ -13,8 +13,8 @@ an MSC", "between two MSCs" and "the edge that stands for a point" are compariso
 The polygon is then made honest: every data point of the contour is measured against the edge
 that stands for it (which bounds its distance to the polygon), and wherever the tolerance
 breaks, the finest-level point (or, failing that, the data point itself) that restores it is
-inserted. Finally every vertex whose removal keeps all points within the
-tolerance is removed, in rounds of non-adjacent vertices.
+inserted. Finally the fewest of those vertices that keep every point within the tolerance are
+chosen (a shortest path over feasible chords, `select_vertices`).
 """
 
 from __future__ import annotations
@@ -215,7 +215,14 @@ def reconstruct_contour(pyramid: Pyramid, ordered: FloatArray, points: FloatArra
     vertices, vparams = _repair(vertices, vparams, ordered, fine_u, points, params, closed,
                                 tolerance)
     n_wavelet = len(vertices)
-    vertices, vparams = prune_vertices(vertices, vparams, points, params, closed, tolerance)
+    # the ordered points join the candidates, so the choice is never worse than the best
+    # subset of ordered points; the wavelet coefficients add smoothed candidates to it
+    extra = ~np.isin(fine_u, vparams)
+    cand = np.vstack([vertices, ordered[extra]])
+    cand_u = np.concatenate([vparams, fine_u[extra]])
+    order = np.argsort(np.mod(cand_u, 1.0) if closed else cand_u, kind="stable")
+    vertices, vparams = select_vertices(cand[order], cand_u[order], points, params, closed,
+                                        tolerance)
     dist = shapely.distance(shapely.points(points), _geometry(vertices, closed))
     return Reconstruction(vertices, vparams, closed, gdl,
                           pyramid.coarsest if start_level is None else start_level, n_wavelet,
@@ -325,6 +332,149 @@ def _split_point(e, vertices, vparams, ordered, fine_u, points, params, dist, ba
     in_edge = np.flatnonzero(bad & (_edge_of(vparams, params, closed) == e))
     j = in_edge[np.argmax(dist[in_edge])]
     return points[j], params[j]
+
+
+def select_vertices(vertices: FloatArray, vparams: FloatArray, points: FloatArray,
+                    params: FloatArray, closed: bool, tolerance: float
+                    ) -> tuple[FloatArray, FloatArray]:
+    """The fewest of the polygon's own vertices that keep every point within ``tolerance``.
+
+    A chord from vertex a to vertex b is feasible when every point whose parameter lies between
+    theirs is within the tolerance of it (the own-edge invariant of the repair, so the result
+    is verified by construction). The shortest path over feasible chords (Imai & Iri) is the
+    optimal subset of an open contour. On a closed contour the path starts at the vertex of
+    shortest reach (a corner) and every start within its first edge is tried; the best of
+    those is kept (the start can matter by one vertex).
+    """
+    k = len(vertices)
+    if k <= (3 if closed else 2):
+        return vertices, vparams
+    order = np.argsort(np.mod(params, 1.0) if closed else params, kind="stable")
+    pts, prm = points[order], (np.mod(params, 1.0) if closed else params)[order]
+    u = np.mod(vparams, 1.0) if closed else vparams.copy()
+    if closed:  # unroll: vertices and points twice round, parameters + 1 the second time
+        vertices2, u = np.vstack([vertices, vertices]), np.concatenate([u, u + 1.0])
+        pts, prm = np.vstack([pts, pts]), np.concatenate([prm, prm + 1.0])
+    else:
+        vertices2 = vertices
+    feasible = _feasible_chords(vertices2, u, pts, prm, tolerance * (1 + SLACK),
+                                max_span=k if closed else k - 1, periodic=closed)
+    if not closed:
+        path = _shortest(feasible, 0, k - 1)
+        return vertices[path], vparams[path]
+    # start where the reach is shortest (a corner): the first edge, and so the set of starts
+    # that must be tried (an optimal polygon has a vertex within it), is then small
+    reach = np.array([int(np.flatnonzero(f)[-1]) + 1 if f.any() else 1 for f in feasible[:k]])
+    first = int(np.argmin(reach))
+    best = _shortest(feasible, first, first + k)
+    for start in range(first + 1, int(best[1]) + 1):
+        path = _shortest(feasible, start, start + k)
+        if len(path) < len(best):
+            best = path
+    keep = np.sort(best[:-1] % k)
+    return vertices[keep], vparams[keep]
+
+
+def _feasible_chords(v: FloatArray, u: FloatArray, pts: FloatArray, prm: FloatArray,
+                     limit: float, max_span: int, periodic: bool = False) -> list[np.ndarray]:
+    """For each vertex a, a boolean array over b = a+1 .. : is chord (a, b) feasible.
+
+    Chan & Chin's cone test, swept over the points in parameter order: chord (a, b) keeps every
+    point between them within ``limit`` exactly when b lies in the cone of directions from a
+    that pass within ``limit`` of each of those points, and a in the same cone seen from b.
+    """
+    n = len(v)
+    if periodic:  # the unrolled second turn repeats the first: sweep each vertex once
+        k = n // 2
+        fwd = [_cone_reach(v, u, pts, prm, a, +1, limit, max_span) for a in range(k)] * 2
+        bwd = [_cone_reach(v, u, pts, prm, b, -1, limit, max_span) for b in range(k, n)] * 2
+    else:
+        fwd = [_cone_reach(v, u, pts, prm, a, +1, limit, max_span) for a in range(n)]
+        bwd = [_cone_reach(v, u, pts, prm, b, -1, limit, max_span) for b in range(n)]
+    out = []
+    for a in range(n):
+        ok = fwd[a][: n - 1 - a].copy()
+        for off in np.flatnonzero(ok):
+            back = bwd[a + off + 1]
+            ok[off] = off < len(back) and back[off]
+        out.append(ok)
+    return out
+
+
+def _cone_reach(v: FloatArray, u: FloatArray, pts: FloatArray, prm: FloatArray, a: int,
+                step: int, limit: float, max_span: int, chunk: int = 512) -> np.ndarray:
+    """ok[m]: vertex a + step*(m+1) lies in the cone from vertex a over the points between."""
+    n = len(v)
+    last = a + step * max_span
+    last = min(n - 1, last) if step > 0 else max(0, last)
+    if last == a:
+        return np.zeros(0, dtype=bool)
+    targets = np.arange(a + step, last + step, step)
+    t_dir = v[targets] - v[a]
+    t_ang = np.arctan2(t_dir[:, 1], t_dir[:, 0])
+    lo_bound, hi_bound = -np.inf, np.inf
+    ref = None
+    # points strictly between u[a] and the farthest target, in sweep order
+    if step > 0:
+        start, stop = np.searchsorted(prm, u[a], "right"), np.searchsorted(prm, u[last], "left")
+        order = np.arange(start, stop)
+    else:
+        start, stop = np.searchsorted(prm, u[last], "right"), np.searchsorted(prm, u[a], "left")
+        order = np.arange(stop - 1, start - 1, -1)
+    cone_lo = np.full(len(targets), -np.inf)
+    cone_hi = np.full(len(targets), np.inf)
+    t_prm = u[targets]
+    for c0 in range(0, len(order), chunk):
+        idx = order[c0:c0 + chunk]
+        d = pts[idx] - v[a]
+        r = np.hypot(d[:, 0], d[:, 1])
+        theta = np.arctan2(d[:, 1], d[:, 0])
+        far = r > limit
+        if ref is None and far.any():
+            ref = theta[np.argmax(far)]
+        if ref is None:
+            continue
+        rel = (theta - ref + np.pi) % (2 * np.pi) - np.pi
+        half = np.arcsin(np.minimum(limit / np.where(far, r, 1.0), 1.0))
+        lo = np.maximum.accumulate(np.concatenate([[lo_bound], np.where(far, rel - half, -np.inf)]))
+        hi = np.minimum.accumulate(np.concatenate([[hi_bound], np.where(far, rel + half, np.inf)]))
+        # the cone a target sees is the one after the last point before it (in sweep order)
+        if step > 0:
+            cnt = np.searchsorted(prm[idx], t_prm, side="left")
+        else:  # idx runs backwards: count the points above each target
+            cnt = len(idx) - np.searchsorted(prm[idx[::-1]], t_prm, side="right")
+        touched = cnt > 0
+        cone_lo[touched] = lo[cnt[touched]]
+        cone_hi[touched] = hi[cnt[touched]]
+        lo_bound, hi_bound = lo[-1], hi[-1]
+        if lo_bound > hi_bound:
+            break
+    if ref is None:
+        return np.ones(len(targets), dtype=bool)
+    rel_t = (t_ang - ref + np.pi) % (2 * np.pi) - np.pi
+    return (rel_t >= cone_lo - 1e-12) & (rel_t <= cone_hi + 1e-12) & (cone_lo <= cone_hi)
+
+
+def _shortest(feasible: list[np.ndarray], start: int, end: int) -> IntArray:
+    """Fewest-edge path from ``start`` to ``end`` over the feasible chords (forward only)."""
+    big = np.iinfo(np.int64).max // 4
+    count = np.full(end + 1, big)
+    parent = np.full(end + 1, -1)
+    count[start] = 0
+    for a in range(start, end):
+        if count[a] >= big:
+            continue
+        ok = feasible[a]
+        b = a + 1 + np.flatnonzero(ok[: end - a])
+        better = count[a] + 1 < count[b]
+        count[b[better]] = count[a] + 1
+        parent[b[better]] = a
+    if count[end] >= big:  # consecutive vertices are always feasible after the repair
+        raise RuntimeError("internal error: no feasible path through the polygon")
+    path = [end]
+    while path[-1] != start:
+        path.append(int(parent[path[-1]]))
+    return np.array(path[::-1], dtype=np.intp)
 
 
 def prune_vertices(vertices: FloatArray, vparams: FloatArray, points: FloatArray,
