@@ -245,7 +245,7 @@ def _first(mask: np.ndarray) -> IntArray:
 def _join_ends(nodes: _Nodes, links: IntArray, radius: float) -> IntArray:
     """Join free ends (and lone nodes) that are each other's nearest free node.
 
-    Ends join within 3 x radius whatever their directions (sharp corners, where both neighbours
+    Ends join within 4 x radius whatever their directions (sharp corners, where both neighbours
     of the corner node lie ahead of its tangent), and across a gap of up to 5 x radius when each
     end faces the other (a gap in the scan). A chain's two ends join only when the chain is long
     enough to close on itself and one end points at the other. The joining repeats, so a
@@ -277,7 +277,7 @@ def _join_ends(nodes: _Nodes, links: IntArray, radius: float) -> IntArray:
             # notch one end may overshoot the other, so one end facing is enough)
             ok &= ~same | ((size[comp[free]] >= 4) & ((ahead > 0) | (ahead_other > 0)))
             facing = (ahead > 0.7 * dist[:, col]) & (ahead_other > 0.7 * dist[:, col])
-            ok &= (dist[:, col] <= 3.0 * radius) | facing
+            ok &= (dist[:, col] <= 4.0 * radius) | facing
             best[ok] = cand[ok]
         mutual = (best >= 0) & (best[np.maximum(best, 0)] == np.arange(len(free)))
         pairs = np.column_stack([free[mutual], free[best[mutual]]])

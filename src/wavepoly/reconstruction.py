@@ -217,12 +217,18 @@ def reconstruct_contour(pyramid: Pyramid, ordered: FloatArray, points: FloatArra
     n_wavelet = len(vertices)
     # the ordered points join the candidates, so the choice is never worse than the best
     # subset of ordered points; the wavelet coefficients add smoothed candidates to it
-    extra = ~np.isin(fine_u, vparams)
+    # (an ordered point at a vertex's parameter is still new unless it is that very vertex)
+    gap, _ = cKDTree(vertices).query(ordered, distance_upper_bound=1e-12)
+    extra = ~(np.isfinite(gap) & np.isin(fine_u, vparams))
     cand = np.vstack([vertices, ordered[extra]])
     cand_u = np.concatenate([vparams, fine_u[extra]])
     order = np.argsort(np.mod(cand_u, 1.0) if closed else cand_u, kind="stable")
-    vertices, vparams = select_vertices(cand[order], cand_u[order], points, params, closed,
-                                        tolerance)
+    chosen, chosen_u = select_vertices(cand[order], cand_u[order], points, params, closed,
+                                       tolerance)
+    # the cone test is exact up to rounding; the repaired polygon stays the fallback
+    if own_edge_distance(chosen, chosen_u, points, params, closed).max(initial=0.0) <= (
+            tolerance * (1 + SLACK)):
+        vertices, vparams = chosen, chosen_u
     dist = shapely.distance(shapely.points(points), _geometry(vertices, closed))
     return Reconstruction(vertices, vparams, closed, gdl,
                           pyramid.coarsest if start_level is None else start_level, n_wavelet,
@@ -366,9 +372,10 @@ def select_vertices(vertices: FloatArray, vparams: FloatArray, points: FloatArra
     # that must be tried (an optimal polygon has a vertex within it), is then small
     reach = np.array([int(np.flatnonzero(f)[-1]) + 1 if f.any() else 1 for f in feasible[:k]])
     first = int(np.argmin(reach))
-    best = _shortest(feasible, first, first + k)
+    best = _shortest(feasible, first, first + k, min_edges=3)
     for start in range(first + 1, int(best[1]) + 1):
-        path = _shortest(feasible, start, start + k)
+        start %= k  # the unrolled vertices hold one turn from every start below k
+        path = _shortest(feasible, start, start + k, min_edges=3)
         if len(path) < len(best):
             best = path
     keep = np.sort(best[:-1] % k)
@@ -414,12 +421,13 @@ def _cone_reach(v: FloatArray, u: FloatArray, pts: FloatArray, prm: FloatArray, 
     t_ang = np.arctan2(t_dir[:, 1], t_dir[:, 0])
     lo_bound, hi_bound = -np.inf, np.inf
     ref = None
-    # points strictly between u[a] and the farthest target, in sweep order
+    # the points a chord (lo, hi) answers for are those with lo <= parameter < hi (the own-edge
+    # rule of `_edge_of`), in sweep order
     if step > 0:
-        start, stop = np.searchsorted(prm, u[a], "right"), np.searchsorted(prm, u[last], "left")
+        start, stop = np.searchsorted(prm, u[a], "left"), np.searchsorted(prm, u[last], "left")
         order = np.arange(start, stop)
     else:
-        start, stop = np.searchsorted(prm, u[last], "right"), np.searchsorted(prm, u[a], "left")
+        start, stop = np.searchsorted(prm, u[last], "left"), np.searchsorted(prm, u[a], "left")
         order = np.arange(stop - 1, start - 1, -1)
     cone_lo = np.full(len(targets), -np.inf)
     cone_hi = np.full(len(targets), np.inf)
@@ -441,8 +449,8 @@ def _cone_reach(v: FloatArray, u: FloatArray, pts: FloatArray, prm: FloatArray, 
         # the cone a target sees is the one after the last point before it (in sweep order)
         if step > 0:
             cnt = np.searchsorted(prm[idx], t_prm, side="left")
-        else:  # idx runs backwards: count the points above each target
-            cnt = len(idx) - np.searchsorted(prm[idx[::-1]], t_prm, side="right")
+        else:  # idx runs backwards: count the points at or above each target
+            cnt = len(idx) - np.searchsorted(prm[idx[::-1]], t_prm, side="left")
         touched = cnt > 0
         cone_lo[touched] = lo[cnt[touched]]
         cone_hi[touched] = hi[cnt[touched]]
@@ -455,13 +463,26 @@ def _cone_reach(v: FloatArray, u: FloatArray, pts: FloatArray, prm: FloatArray, 
     return (rel_t >= cone_lo - 1e-12) & (rel_t <= cone_hi + 1e-12) & (cone_lo <= cone_hi)
 
 
-def _shortest(feasible: list[np.ndarray], start: int, end: int) -> IntArray:
-    """Fewest-edge path from ``start`` to ``end`` over the feasible chords (forward only)."""
+def _shortest(feasible: list[np.ndarray], start: int, end: int, min_edges: int = 1) -> IntArray:
+    """Fewest-edge path from ``start`` to ``end`` over the feasible chords (forward only).
+
+    ``min_edges`` forbids shorter paths (a closed polygon needs 3 edges even when the whole
+    contour is within the tolerance of one point).
+    """
     big = np.iinfo(np.int64).max // 4
     count = np.full(end + 1, big)
     parent = np.full(end + 1, -1)
-    count[start] = 0
-    for a in range(start, end):
+    layer_parent = []  # vertices reached with exactly j <= min_edges edges, and their parents
+    reached = np.array([start])
+    for _ in range(min_edges):
+        par = np.full(end + 1, -1)
+        for a in reached:
+            b = a + 1 + np.flatnonzero(feasible[a][: end - a])
+            par[b[par[b] < 0]] = a
+        layer_parent.append(par)
+        reached = np.flatnonzero(par >= 0)
+    count[reached] = len(layer_parent)
+    for a in range(int(reached.min(initial=end)), end):
         if count[a] >= big:
             continue
         ok = feasible[a]
@@ -469,11 +490,13 @@ def _shortest(feasible: list[np.ndarray], start: int, end: int) -> IntArray:
         better = count[a] + 1 < count[b]
         count[b[better]] = count[a] + 1
         parent[b[better]] = a
-    if count[end] >= big:  # consecutive vertices are always feasible after the repair
+    if count[end] >= big:
         raise RuntimeError("internal error: no feasible path through the polygon")
     path = [end]
-    while path[-1] != start:
+    while parent[path[-1]] >= 0:
         path.append(int(parent[path[-1]]))
+    for par in layer_parent[::-1]:
+        path.append(int(par[path[-1]]))
     return np.array(path[::-1], dtype=np.intp)
 
 

@@ -1,0 +1,181 @@
+"""End-to-end fit: the promises of the paper (tolerance, corners, concision) on shapes and scans.
+
+Every output is checked independently of the pipeline: each input point's distance to the
+output polygons, measured with shapely, is within the tolerance.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import shapely
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import wavepoly
+from wavepoly.baselines import min_vertices_covering
+from wavepoly.errors import DataError, ParameterError
+from wavepoly.ordering import order_points
+from wavepoly.samples import glyph_outlines, sample_rings
+
+from .conftest import distance_to_output
+
+EPS = 0.08  # the paper's 0.08 mm on a part about 20 mm high
+
+
+def check_within_tolerance(points, result):
+    inliers = np.setdiff1d(np.arange(len(points)), result.outliers)
+    dist = distance_to_output(points[inliers], result)
+    assert dist.max() <= result.tolerance * (1 + 1e-9)
+    assert result.max_error <= result.tolerance * (1 + 1e-9)
+    np.testing.assert_allclose(result.max_error, dist.max(), rtol=1e-6, atol=1e-12)
+    return dist
+
+
+@pytest.fixture(scope="module", params=[("B", 0.0), ("8", 0.02), ("&", 0.0), ("kx", 0.02)])
+def glyph_fit(request):
+    text, noise = request.param
+    shape = glyph_outlines(text)
+    pts = sample_rings(shape.rings, spacing=0.012, noise=noise, seed=3)
+    return shape, pts, wavepoly.fit(pts, EPS)
+
+
+def test_glyph_tolerance_holds(glyph_fit):
+    _, pts, result = glyph_fit
+    check_within_tolerance(pts, result)
+    assert len(result.outliers) <= 0.01 * len(pts)
+
+
+def test_glyph_corners_survive(glyph_fit):
+    """Every true corner (turn > 35 degrees) has an output vertex within 2 eps."""
+    shape, _, result = glyph_fit
+    vertices = np.concatenate([c.vertices for c in result.contours])
+    corners = shape.corners(35.0)
+    assert len(corners)
+    gap = np.min(np.linalg.norm(corners[:, None] - vertices[None], axis=2), axis=1)
+    assert gap.max() <= 2 * EPS, corners[np.argmax(gap)]
+
+
+def test_glyph_contours_rings_and_holes(glyph_fit):
+    shape, _, result = glyph_fit
+    assert len(result.contours) == len(shape.rings)
+    assert all(c.closed for c in result.contours)
+    truth = [shapely.Polygon(r) for r in shape.rings]
+    truth_depth = [sum(o.contains(t) for o in truth if o is not t) for t in truth]
+    depth = [0 if p < 0 else 1 + (result.parents[p] >= 0) for p in result.parents]
+    assert sorted(depth) == sorted(truth_depth)
+    for c, d in zip(result.contours, depth):  # outer counter-clockwise, holes clockwise
+        assert (c.signed_area > 0) == (d % 2 == 0)
+
+
+def test_glyph_vertex_counts_near_the_optimum(glyph_fit):
+    """Within 10 % of the fewest ordered points that keep every input point within eps."""
+    _, pts, result = glyph_fit
+    ordering = order_points(pts, EPS)
+    optimum = sum(len(min_vertices_covering(c.points, c.closed, pts[c.members], EPS))
+                  for c in ordering.contours)
+    assert result.n_vertices <= 1.10 * optimum
+    for report in result.reports:
+        assert report.final_vertices <= min(report.ordered_points, report.wavelet_vertices)
+        assert report.max_error <= EPS * (1 + 1e-9)
+
+
+def test_holes_of_B_nest_in_the_outline():
+    pts = sample_rings(glyph_outlines("B").rings, spacing=0.015, noise=0.01, seed=5)
+    result = wavepoly.fit(pts, EPS)
+    outer = [i for i, p in enumerate(result.parents) if p < 0]
+    assert len(outer) == 1
+    assert sorted(result.parents) == [-1, outer[0], outer[0]]
+    assert result.contours[outer[0]].signed_area > 0
+    assert all(result.contours[i].signed_area < 0 for i in range(3) if i != outer[0])
+
+
+def test_open_curves_stay_open():
+    t = np.linspace(0.0, 1.0, 4000)
+    arc = np.column_stack([10 * np.cos(2 * t), 10 * np.sin(2 * t)])
+    zig = np.column_stack([np.linspace(-5, 5, 4000), 3 * np.abs((t * 6) % 2 - 1) - 20])
+    rng = np.random.default_rng(2)
+    pts = np.vstack([arc, zig]) + rng.normal(0, 0.01, (8000, 2))
+    result = wavepoly.fit(pts, 0.05)
+    assert [c.closed for c in result.contours] == [False, False]
+    check_within_tolerance(pts, result)
+    zig_out = min(result.contours, key=lambda c: c.vertices[:, 1].mean())
+    assert 7 <= zig_out.n_vertices <= 12  # 5 corners and the two ends, a little slack
+
+
+def test_tiny_closed_contour_keeps_a_polygon():
+    """A loop smaller than the tolerance still comes out as a polygon (3 vertices or more)."""
+    t = np.random.default_rng(0).uniform(0, 2 * np.pi, 400)
+    pts = np.column_stack([0.1 * np.cos(t), 0.1 * np.sin(t)])
+    result = wavepoly.fit(pts, 0.08, radius=0.02)
+    assert len(result.contours) == 1 and result.contours[0].closed
+    assert result.contours[0].n_vertices >= 3
+    check_within_tolerance(pts, result)
+
+
+def test_bad_input_is_named():
+    with pytest.raises(ParameterError, match="tolerance"):
+        wavepoly.fit(np.random.default_rng(0).normal(size=(50, 2)), -1.0)
+    with pytest.raises(DataError):
+        wavepoly.fit(np.array([[0.0, 0.0]]), 0.1)
+    with pytest.raises(DataError, match="NaN"):
+        wavepoly.fit(np.array([[0.0, 0.0], [1.0, np.nan], [2.0, 0.0]]), 0.1)
+    with pytest.raises(ParameterError, match="planar"):
+        wavepoly.fit(np.zeros((10, 3)) + np.arange(10)[:, None], 0.1)
+
+
+@st.composite
+def random_polygon_scan(draw):
+    """A random star-shaped polygon (corners and straight edges), scanned with noise < eps/3."""
+    k = draw(st.integers(3, 9))
+    seed = draw(st.integers(0, 10**6))
+    eps = draw(st.floats(0.03, 0.3))
+    rng = np.random.default_rng(seed)
+    angles = np.sort(rng.uniform(0, 2 * np.pi, k))
+    angles += np.linspace(0, 2 * np.pi, k, endpoint=False) - angles  # keep them spread
+    angles += rng.uniform(-0.2, 0.2, k) * (2 * np.pi / k)
+    radii = rng.uniform(5.0, 10.0, k)
+    ring = np.column_stack([radii * np.cos(angles), radii * np.sin(angles)])
+    noise = draw(st.floats(0.0, 1.0 / 3.0)) * eps / 3  # a std whose 3-sigma stays below eps
+    pts = sample_rings([ring], spacing=eps / 4, noise=noise, seed=seed)
+    return pts, eps, ring
+
+
+@settings(max_examples=12, deadline=None)
+@given(random_polygon_scan())
+def test_property_tolerance_always_holds(case):
+    pts, eps, ring = case
+    result = wavepoly.fit(pts, eps)
+    check_within_tolerance(pts, result)
+    assert len(result.outliers) <= 0.01 * len(pts)
+    for report in result.reports:
+        assert report.final_vertices <= report.ordered_points
+    closed = [c for c in result.contours if c.closed]
+    assert closed, "a polygon scan gives a closed contour"
+    assert max(c.n_vertices for c in closed) <= 3 * len(ring)
+
+
+# -- real scans ---------------------------------------------------------------------------------
+
+
+def test_intel_laser_map(shared_data):
+    """The Intel Research Lab laser map: hundreds of walls, open and closed, real noise."""
+    from wavepoly.io import read_points
+
+    pts = read_points(shared_data / "lidar2d" / "intel-corrected.log.gz")
+    result = wavepoly.fit(pts, 0.1)
+    check_within_tolerance(pts, result)
+    assert len(result.outliers) <= 0.01 * len(pts)
+    assert sum(not c.closed for c in result.contours) >= 50
+    assert result.n_vertices < 0.05 * len(pts)
+
+
+def test_keyboard_silhouette(shared_data):
+    from wavepoly.io import read_points
+    from wavepoly.ordering import curve_spacing
+
+    pts = read_points(shared_data / "curves2d" / "noisy_sets" / "Keyboard0.txt")
+    eps = 3 * curve_spacing(pts)
+    result = wavepoly.fit(pts, eps)
+    check_within_tolerance(pts, result)
+    assert any(c.closed for c in result.contours)
