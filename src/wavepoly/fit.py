@@ -22,8 +22,11 @@ from .ordering import order_points
 from .reconstruction import Reconstruction, reconstruct_contour
 from .types import Contour, ContourReport, FitResult, FloatArray, OrderedContour
 
+DEFAULT_RELATIVE_TOLERANCE = 0.05  # eq. 7 threshold; the paper leaves it to the user
 
-def fit(points: FloatArray, tolerance: float, *, relative_tolerance: float | str = 0.05,
+
+def fit(points: FloatArray, tolerance: float, *,
+        relative_tolerance: float | str = DEFAULT_RELATIVE_TOLERANCE,
         radius: float | None = None, seed: int = 0,
         progress: Callable[[int, int], None] | None = None) -> FitResult:
     """Concise polygons within ``tolerance`` of unorganized planar points.
@@ -34,7 +37,8 @@ def fit(points: FloatArray, tolerance: float, *, relative_tolerance: float | str
     tolerance : shape tolerance, in the points' units: every input point that is not an outlier
         ends within this distance of the output.
     relative_tolerance : threshold of the relative shape error (eq. 7) that stops the
-        decomposition, or ``"auto"`` to try every starting level and keep the fewest vertices.
+        decomposition, or ``"auto"`` to try a few starting levels (`auto_start_levels`) and
+        keep the fewest vertices.
     radius : neighbourhood radius of the ordering stage (default: ``tolerance``).
     seed : seed of the ordering's random choices.
     progress : called as ``progress(done, total)`` after each contour.
@@ -105,9 +109,25 @@ def _best_reconstruction(pyramid: Pyramid, ordered: FloatArray, members: FloatAr
     if relative_tolerance != AUTO:
         return reconstruct_contour(pyramid, ordered, members, tolerance)
     best = None
-    for level in range(pyramid.coarsest, pyramid.finest + 1):
+    for level in auto_start_levels(pyramid, tolerance):
         rec = reconstruct_contour(pyramid, ordered, members, tolerance, start_level=level)
         if best is None or len(rec.vertices) < len(best.vertices):
             best = rec
     assert best is not None
     return best
+
+
+def auto_start_levels(pyramid: Pyramid, tolerance: float) -> list[int]:
+    """Start levels that ``relative_tolerance="auto"`` tries: the coarsest, the one that the
+    default relative tolerance (eq. 7) picks, and the level between them.
+
+    Trying every level costs one reconstruction each for rarely more than a vertex or two (the
+    final selection takes the ordered points as candidates whatever the level); see
+    docs/benchmarks.md for the measurements.
+    """
+    by_eq7 = pyramid.finest
+    for level in range(pyramid.finest - 1, pyramid.coarsest - 1, -1):
+        if pyramid.errors[level].violates(tolerance, DEFAULT_RELATIVE_TOLERANCE):
+            break
+        by_eq7 = level
+    return sorted({pyramid.coarsest, (pyramid.coarsest + by_eq7) // 2, by_eq7})

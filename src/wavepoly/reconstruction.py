@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import shapely
+from scipy.ndimage import maximum_filter1d
 from scipy.spatial import cKDTree
 
 from . import wavelets
@@ -348,9 +349,8 @@ def select_vertices(vertices: FloatArray, vparams: FloatArray, points: FloatArra
     A chord from vertex a to vertex b is feasible when every point whose parameter lies between
     theirs is within the tolerance of it (the own-edge invariant of the repair, so the result
     is verified by construction). The shortest path over feasible chords (Imai & Iri) is the
-    optimal subset of an open contour. On a closed contour the path starts at the vertex of
-    shortest reach (a corner) and every start within its first edge is tried; the best of
-    those is kept (the start can matter by one vertex).
+    optimal subset of an open contour. On a closed contour every start in a window that any
+    polygon must have a vertex in is tried (`_closed_starts`), and the best is kept.
     """
     k = len(vertices)
     if k <= (3 if closed else 2):
@@ -368,18 +368,30 @@ def select_vertices(vertices: FloatArray, vparams: FloatArray, points: FloatArra
     if not closed:
         path = _shortest(feasible, 0, k - 1)
         return vertices[path], vparams[path]
-    # start where the reach is shortest (a corner): the first edge, and so the set of starts
-    # that must be tried (an optimal polygon has a vertex within it), is then small
-    reach = np.array([int(np.flatnonzero(f)[-1]) + 1 if f.any() else 1 for f in feasible[:k]])
-    first = int(np.argmin(reach))
-    best = _shortest(feasible, first, first + k, min_edges=3)
-    for start in range(first + 1, int(best[1]) + 1):
-        start %= k  # the unrolled vertices hold one turn from every start below k
+    best = None
+    for start in _closed_starts(feasible, k):
         path = _shortest(feasible, start, start + k, min_edges=3)
-        if len(path) < len(best):
+        if best is None or len(path) < len(best):
             best = path
     keep = np.sort(best[:-1] % k)
     return vertices[keep], vparams[keep]
+
+
+def _closed_starts(feasible: list[np.ndarray], k: int) -> IntArray:
+    """Starts to try on a closed contour of ``k`` vertices (``feasible`` unrolled twice round).
+
+    Every polygon has, for each vertex a, a vertex in [a, M(a)], where M(a) is the farthest
+    vertex that a feasible chord starting before a reaches: the polygon's edge over a ends
+    there at the latest. The vertex with the narrowest window (a corner) gives the fewest starts.
+    """
+    last = np.array([a + 1 + int(np.flatnonzero(f)[-1]) if f.any() else a
+                     for a, f in enumerate(feasible[:k])])
+    last = np.concatenate([last, last + k])  # the second turn's arrays are cut at its end
+    # M(a) for a in [k, 2k): the largest ``last`` over the k vertices before a
+    before = maximum_filter1d(last, size=k, origin=(k - 1) // 2)[k - 1:2 * k - 1]
+    window = np.maximum(before - np.arange(k, 2 * k), 0)
+    a = int(np.argmin(window))
+    return np.arange(a, a + window[a] + 1) % k
 
 
 def _feasible_chords(v: FloatArray, u: FloatArray, pts: FloatArray, prm: FloatArray,
