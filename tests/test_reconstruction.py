@@ -128,3 +128,22 @@ def test_select_checks_points_at_a_vertex_parameter(closed):
     chosen, chosen_u = select_vertices(vertices, vparams, points, params, closed, 0.1)
     assert own_edge_distance(chosen, chosen_u, points, params, closed).max() <= 0.1
     assert 0.6 in chosen_u
+
+
+@pytest.mark.parametrize("closed", [False, True])
+def test_points_outside_a_corner_get_distinct_ordered_parameters(closed):
+    """Regression (bunny slice): points outside a corner all projected onto it; with one shared
+    parameter no inserted vertex could separate them and the repair never converged."""
+    from wavepoly.levels import decompose_contour
+    from wavepoly.reconstruction import point_parameters
+
+    if closed:
+        ordered = np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]])
+    else:
+        ordered = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [2.0, 1.0], [2.0, 2.0]])
+    pyramid = decompose_contour(ordered, closed, 0.1)
+    angles = np.radians([-80.0, -45.0, -10.0])  # outside the corner (2, 0), towards +y last
+    points = np.array([2.0, 0.0]) + 0.05 * np.column_stack([np.cos(angles), np.sin(angles)])
+    u = point_parameters(points, pyramid)
+    assert len(np.unique(u)) == 3 and np.all(np.diff(u) > 0)
+    assert np.ptp(u) < 1e-6

@@ -73,7 +73,13 @@ class Reconstruction:
 
 
 def point_parameters(points: FloatArray, pyramid: Pyramid) -> FloatArray:
-    """Curve parameter of each data point: its projection on the finest control polygon."""
+    """Curve parameter of each data point: its projection on the finest control polygon.
+
+    Points outside a corner all project onto the corner; they are told apart by direction
+    (those towards the outgoing edge get a slightly larger parameter), so that an inserted
+    vertex can always separate them. On an open contour, the parameters of points beyond an end
+    continue along its end segments.
+    """
     cp = pyramid.coefficients[pyramid.finest]
     u = wavelets.greville(pyramid.finest, pyramid.closed)
     if pyramid.closed:
@@ -81,7 +87,51 @@ def point_parameters(points: FloatArray, pyramid: Pyramid) -> FloatArray:
     arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(cp, axis=0), axis=1))])
     s = shapely.line_locate_point(shapely.linestrings(cp), shapely.points(points))
     param = np.interp(s, arc, u)
-    return np.mod(param, 1.0) if pyramid.closed else param
+    delta = 1e-9 * float(np.diff(u).min(initial=1.0))
+    at = np.clip(np.searchsorted(arc, s), 0, len(arc) - 1)
+    near = np.abs(arc[at] - s) <= 1e-12 * arc[-1]
+    m = len(arc) - 1  # segments; on a closed contour vertex m is vertex 0 again
+    inner = near if pyramid.closed else near & (at > 0) & (at < m)
+    if inner.any():
+        i = at[inner] % m if pyramid.closed else at[inner]
+        prev, nxt = (i - 1) % m, i + 1
+        d_in = _unit(cp[i] - cp[prev])
+        d_out = _unit(cp[nxt] - cp[i])
+        w = _unit(points[inner] - cp[i])
+        key = np.einsum("ij,ij->i", w, d_in + d_out)  # -1 by the incoming edge, +1 by the next
+        param[inner] = u[i] + 0.25 * key * delta
+    param = _untie(param, 1e-3 * delta)
+    if pyramid.closed:
+        return np.mod(param, 1.0)
+    # beyond an end of an open contour: the parameter continues along the end segment, so that
+    # the repair can extend the polyline to such points
+    for end, nxt in ((0, 1), (m, m - 1)):
+        out = near & (at == end)
+        if out.any():
+            seg = cp[end] - cp[nxt]
+            t = (points[out] - cp[end]) @ seg / max(float(seg @ seg), 1e-300)
+            gap = np.linalg.norm(points[out] - cp[end], axis=1) / np.sqrt(max(float(seg @ seg),
+                                                                                1e-300))
+            # strictly beyond the end vertex, so that an inserted point has its own parameter
+            param[out] = u[end] + (np.maximum(t, 0.0) + delta * (1 + gap)) * (u[end] - u[nxt])
+    return param
+
+
+def _untie(param: FloatArray, step: float) -> FloatArray:
+    """Equal parameters spread by ``step`` (in input order): with every point's parameter its
+    own, a point inserted as a vertex starts the edge that holds it, so the repair ends."""
+    order = np.argsort(param, kind="stable")
+    p = param[order]
+    new_group = np.concatenate([[True], p[1:] != p[:-1]])
+    start = np.maximum.accumulate(np.where(new_group, np.arange(len(p)), 0))
+    out = param.copy()
+    out[order] = p + (np.arange(len(p)) - start) * step
+    return out
+
+
+def _unit(v: FloatArray) -> FloatArray:
+    n = np.linalg.norm(v, axis=1, keepdims=True)
+    return v / np.where(n > 0, n, 1.0)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -224,8 +274,9 @@ def reconstruct_contour(pyramid: Pyramid, ordered: FloatArray, points: FloatArra
     cand = np.vstack([vertices, ordered[extra]])
     cand_u = np.concatenate([vparams, fine_u[extra]])
     order = np.argsort(np.mod(cand_u, 1.0) if closed else cand_u, kind="stable")
+    backbone = np.flatnonzero(order < len(vertices))  # the repaired, verified polygon
     chosen, chosen_u = select_vertices(cand[order], cand_u[order], points, params, closed,
-                                       tolerance)
+                                       tolerance, backbone=backbone)
     # the cone test is exact up to rounding; the repaired polygon stays the fallback
     if own_edge_distance(chosen, chosen_u, points, params, closed).max(initial=0.0) <= (
             tolerance * (1 + SLACK)):
@@ -342,8 +393,8 @@ def _split_point(e, vertices, vparams, ordered, fine_u, points, params, dist, ba
 
 
 def select_vertices(vertices: FloatArray, vparams: FloatArray, points: FloatArray,
-                    params: FloatArray, closed: bool, tolerance: float
-                    ) -> tuple[FloatArray, FloatArray]:
+                    params: FloatArray, closed: bool, tolerance: float,
+                    backbone: IntArray | None = None) -> tuple[FloatArray, FloatArray]:
     """The fewest of the polygon's own vertices that keep every point within ``tolerance``.
 
     A chord from vertex a to vertex b is feasible when every point whose parameter lies between
@@ -355,6 +406,8 @@ def select_vertices(vertices: FloatArray, vparams: FloatArray, points: FloatArra
     k = len(vertices)
     if k <= (3 if closed else 2):
         return vertices, vparams
+    if not closed:  # points beyond the ends belong to the end edges (as in `_edge_of`)
+        params = np.clip(params, vparams[0], np.nextafter(vparams[-1], -np.inf))
     order = np.argsort(np.mod(params, 1.0) if closed else params, kind="stable")
     pts, prm = points[order], (np.mod(params, 1.0) if closed else params)[order]
     u = np.mod(vparams, 1.0) if closed else vparams.copy()
@@ -365,6 +418,8 @@ def select_vertices(vertices: FloatArray, vparams: FloatArray, points: FloatArra
         vertices2 = vertices
     feasible = _feasible_chords(vertices2, u, pts, prm, tolerance * (1 + SLACK),
                                 max_span=k if closed else k - 1, periodic=closed)
+    if backbone is not None and len(backbone) >= 2:
+        _allow_backbone(feasible, backbone, k, closed)
     if not closed:
         path = _shortest(feasible, 0, k - 1)
         return vertices[path], vparams[path]
@@ -375,6 +430,20 @@ def select_vertices(vertices: FloatArray, vparams: FloatArray, points: FloatArra
             best = path
     keep = np.sort(best[:-1] % k)
     return vertices[keep], vparams[keep]
+
+
+def _allow_backbone(feasible: list[np.ndarray], backbone: IntArray, k: int, closed: bool
+                    ) -> None:
+    """Mark the edges of an already verified polygon (vertex indices ``backbone``) feasible,
+    so that a path always exists; the caller verifies the choice again."""
+    a = backbone if not closed else np.concatenate([backbone, backbone + k])
+    b = np.roll(a, -1)[:-1]
+    a = a[:-1]
+    if closed:
+        b = np.where(b <= a, b + k, b)
+    for x, y in zip(a, b):
+        if 0 < y - x <= len(feasible[x]):
+            feasible[x][y - x - 1] = True
 
 
 def _closed_starts(feasible: list[np.ndarray], k: int) -> IntArray:

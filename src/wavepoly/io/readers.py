@@ -18,7 +18,7 @@ from ..errors import DataError
 from ..types import FloatArray
 
 TEXT_FORMATS = ("xyz", "xy", "txt", "csv", "pts", "p2d", "gtn", "xym", "asc")
-FORMATS = (*TEXT_FORMATS, "npy", "ply", "las", "laz", "pcd", "obj", "off", "carmen")
+FORMATS = (*TEXT_FORMATS, "npy", "ply", "las", "laz", "pcd", "obj", "off", "carmen", "conf")
 #: Extensions whose columns are planar (x, y, then weights or indices that are not coordinates).
 _PLANAR = {"xy", "p2d", "gtn", "xym"}
 _SPLIT = re.compile(r"[,\s;]+")
@@ -307,9 +307,42 @@ def _read_carmen(path: Path, fmt: str, columns: tuple[int, ...] | None,
     return np.concatenate(out)
 
 
+def _read_conf(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndarray:
+    """Aligned range scans (Stanford ``.conf``): every ``bmesh FILE tx ty tz qx qy qz qw`` line.
+
+    Each scan's points p go to R(q)^-1 p + t, q scalar-last (on the bunny's scans this puts
+    91 % of bun045's points within 1 mm of bun000's, against 0.3 % for R(q) p + t). Scans named
+    in the file but absent are skipped with a warning; none present is an error.
+    """
+    from scipy.spatial.transform import Rotation
+
+    out, missing = [], []
+    with _open_text(path) as fh:
+        lines = fh.read().splitlines()
+    for line in lines:
+        tokens = line.split()
+        if len(tokens) != 9 or tokens[0] != "bmesh":
+            continue
+        scan = path.parent / tokens[1]
+        if not scan.exists():
+            missing.append(tokens[1])
+            continue
+        t, q = np.array(tokens[2:5], float), np.array(tokens[5:9], float)
+        pts = read_points(scan)
+        if pts.shape[1] != 3:
+            raise DataError(f"{scan}: a range scan must have 3 coordinates")
+        out.append(Rotation.from_quat(q).inv().apply(pts) + t)
+    if not out:
+        raise DataError(f"{path}: no 'bmesh FILE tx ty tz qx qy qz qw' line names a scan here")
+    if missing:
+        warnings.warn(f"{path.name}: {len(missing)} scan(s) not found, skipped: "
+                      f"{', '.join(missing)}", stacklevel=3)
+    return np.concatenate(out)
+
+
 _READERS: dict[str, Callable[[Path, str, tuple[int, ...] | None], np.ndarray]] = {
     "npy": _read_npy, "ply": _read_ply, "las": _read_las, "laz": _read_las, "pcd": _read_pcd,
-    "obj": _read_obj, "off": _read_off, "carmen": _read_carmen,
+    "obj": _read_obj, "off": _read_off, "carmen": _read_carmen, "conf": _read_conf,
 }
 
 
