@@ -212,6 +212,91 @@ class _progress:
             self.bar.stop()
 
 
+@app.command(name="slice")
+def slice_command(
+    path: Annotated[Path, typer.Argument(help="3D cloud (.ply .pts .xyz .las .laz .conf ...).")],
+    tolerance: Annotated[float, typer.Option("--tolerance", "-t",
+                                             help="Shape tolerance (the cloud's units).")],
+    output: Annotated[Path, typer.Option("--output", "-o",
+                                         help="Layer model: .cli .svg .geojson .stl")],
+    layer: Annotated[float | None, typer.Option("--layer", help="Uniform layer thickness.")
+                     ] = None,
+    adaptive: Annotated[bool, typer.Option(help="Adaptive layer thickness.")] = False,
+    min_layer: Annotated[float | None, typer.Option(help="Thinnest adaptive layer.")] = None,
+    max_layer: Annotated[float | None, typer.Option(help="Thickest adaptive layer.")] = None,
+    band: Annotated[float | None, typer.Option(help="Thickness of the band projected onto "
+                                                    "each layer's plane.")] = None,
+    axis: Annotated[str, typer.Option(help="Slicing axis: x, y, z or 'ax,ay,az'.")] = "z",
+    workers: Annotated[int | None, typer.Option(help="Processes (default: all cores).")
+                       ] = None,
+    units: Annotated[float, typer.Option(help="Millimetres per unit (.cli header).")] = 1.0,
+    plot: Annotated[Path | None, typer.Option(help="Write figures (PNG): the 3D layer model, "
+                                                   "and a contact sheet next to it.")] = None,
+    report: Annotated[Path | None, typer.Option(help="Write a JSON report.")] = None,
+    fmt: FormatOpt = None, columns: ColumnsOpt = None,
+) -> None:
+    """Slice a 3D cloud into layers, fit each layer's contours, write the layer model."""
+    from .io.layers import LAYER_FORMATS, write_layers
+    from .slicing import slice_cloud, summary
+
+    if output.suffix.lstrip(".").lower() not in LAYER_FORMATS:
+        raise ParameterError(f"{output}: output must end in one of "
+                             f"{', '.join('.' + f for f in LAYER_FORMATS)}")
+    if (layer is None) == (not adaptive):
+        raise ParameterError("give either --layer THICKNESS or --adaptive")
+    direction = axis if axis.lower() in ("x", "y", "z") else _vector(axis)
+    pts = _read(path, fmt, columns)
+    with _progress("fitting layers") as progress:
+        result = slice_cloud(pts, tolerance, axis=direction, layer_thickness=layer,
+                             adaptive=adaptive, min_layer=min_layer, max_layer=max_layer,
+                             band=band, workers=workers, progress=progress)
+    write_layers(output, result, units=units)
+    typer.echo(summary(result))
+    for note in result.notes:
+        typer.echo(f"note: {note}")
+    typer.echo(f"wrote {output}")
+    if report:
+        from .io.atomic import write_text_atomic
+
+        write_text_atomic(report, json.dumps(slice_report(result, str(path)), indent=2))
+        typer.echo(f"wrote {report}")
+    if plot:
+        from .plot import plot_contact_sheet, plot_layer_model, save_figure
+
+        save_figure(plot_layer_model(result), plot)
+        sheet = plot.with_name(plot.stem + "-layers" + plot.suffix)
+        save_figure(plot_contact_sheet(result), sheet)
+        typer.echo(f"wrote {plot} and {sheet}")
+
+
+def _vector(text: str) -> tuple[float, float, float]:
+    try:
+        values = tuple(float(v) for v in text.split(","))
+    except ValueError:
+        values = ()
+    if len(values) != 3:
+        raise ParameterError(f"--axis takes x, y, z or three numbers 'ax,ay,az', got {text!r}")
+    return values  # type: ignore[return-value]
+
+
+def slice_report(result, source: str) -> dict:
+    """The JSON report of a slicing: per layer heights, thickness, contours, errors."""
+    return {
+        "input": source, "points": result.n_points, "tolerance": result.tolerance,
+        "adaptive": result.adaptive, "layers": len(result.layers),
+        "model_error": result.model_error, "vertices": result.n_vertices,
+        "per_layer": [{"bottom": la.bottom, "thickness": la.thickness, "z": la.z,
+                       "band_points": la.fit.n_points, "slab_points": la.slab_points,
+                       "contours": len(la.fit.contours),
+                       "closed": sum(c.closed for c in la.fit.contours),
+                       "vertices": la.fit.n_vertices, "fit_max_error": la.fit.max_error,
+                       "model_error": la.model_error if np.isfinite(la.model_error) else None,
+                       "outliers": len(la.fit.outliers), "notes": list(la.fit.notes)}
+                      for la in result.layers],
+        "timings": result.timings, "notes": list(result.notes),
+    }
+
+
 @app.command()
 def demo(out: Annotated[Path, typer.Option("--out", help="Output folder.")] = Path(
         "wavepoly-demo")) -> None:

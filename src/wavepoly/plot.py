@@ -8,6 +8,7 @@ Each function draws on a matplotlib Axes (a new figure when none is given) and r
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import matplotlib
 
@@ -17,6 +18,9 @@ import numpy as np  # noqa: E402
 
 from .io.atomic import atomic_path  # noqa: E402
 from .types import FitResult, FloatArray, Ordering  # noqa: E402
+
+if TYPE_CHECKING:
+    from .slicing import SliceResult
 
 _COLOURS = plt.get_cmap("tab10").colors
 
@@ -100,9 +104,54 @@ def plot_mscs(points: FloatArray, mscs_by_level: dict[int, list[FloatArray]], cl
     return ax
 
 
+def plot_layer_model(result: SliceResult, max_layers: int = 400):
+    """Fig. 7e: the layer model in 3D, each layer's contours drawn at its bottom and top."""
+    fig = plt.figure(figsize=(8, 8))
+    ax = fig.add_subplot(projection="3d")
+    step = max(1, len(result.layers) // max_layers)
+    cmap = plt.get_cmap("viridis")
+    for k, layer in enumerate(result.layers[::step]):
+        colour = cmap(k * step / max(1, len(result.layers) - 1))
+        for c in layer.fit.contours:
+            xy = _closed(c.vertices, c.closed)
+            for h in (layer.bottom, layer.top):
+                xyz = result.to_world(xy, h)
+                ax.plot(xyz[:, 0], xyz[:, 1], xyz[:, 2], lw=0.6, color=colour)
+    ax.set_title(f"{len(result.layers)} layers, {result.n_vertices} vertices, model error "
+                 f"{result.model_error:.3g} (tolerance {result.tolerance:.3g})", fontsize=10)
+    _equal_3d(ax, result)
+    return ax
+
+
+def _equal_3d(ax, result: SliceResult) -> None:
+    pts = [result.to_world(c.vertices, la.z) for la in result.layers for c in la.fit.contours]
+    if pts:
+        allp = np.concatenate(pts)
+        ax.set_box_aspect(np.maximum(np.ptp(allp, axis=0), 1e-12))
+
+
+def plot_contact_sheet(result: SliceResult, max_panels: int = 36):
+    """Each layer's 2D fit in a grid (every n-th layer when there are more than ``max_panels``)."""
+    picks = np.unique(np.linspace(0, len(result.layers) - 1,
+                                  min(max_panels, len(result.layers))).astype(int))
+    cols = int(np.ceil(np.sqrt(len(picks))))
+    rows = int(np.ceil(len(picks) / cols))
+    fig, axes = plt.subplots(rows, cols, figsize=(2.5 * cols, 2.5 * rows), squeeze=False)
+    for ax in axes.ravel():
+        ax.set_axis_off()
+    for ax, k in zip(axes.ravel(), picks):
+        layer = result.layers[k]
+        ax.set_aspect("equal")
+        for j, c in enumerate(layer.fit.contours):
+            xy = _closed(c.vertices, c.closed)
+            ax.plot(xy[:, 0], xy[:, 1], "-", lw=0.8, color=_COLOURS[j % len(_COLOURS)])
+        ax.set_title(f"{k}: z {layer.z:.4g}, {layer.fit.n_vertices} v", fontsize=7)
+    return fig
+
+
 def save_figure(ax_or_fig, path: str | Path, dpi: int = 150) -> None:
     """Write the figure of ``ax_or_fig`` to ``path`` (format from the extension) and close it."""
-    fig = ax_or_fig.figure if hasattr(ax_or_fig, "figure") and ax_or_fig.figure else ax_or_fig
+    fig = ax_or_fig if hasattr(ax_or_fig, "savefig") else ax_or_fig.figure
     suffix = Path(path).suffix.lstrip(".") or "png"
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=dpi, bbox_inches="tight", format=suffix)

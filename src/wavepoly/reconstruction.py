@@ -425,9 +425,14 @@ def select_vertices(vertices: FloatArray, vparams: FloatArray, points: FloatArra
         return vertices[path], vparams[path]
     best = None
     for start in _closed_starts(feasible, k):
-        path = _shortest(feasible, start, start + k, min_edges=3)
+        try:
+            path = _shortest(feasible, start, start + k, min_edges=3)
+        except RuntimeError:  # no polygon has this vertex; another start in the window does
+            continue
         if best is None or len(path) < len(best):
             best = path
+    if best is None:
+        raise RuntimeError("internal error: no feasible polygon")
     keep = np.sort(best[:-1] % k)
     return vertices[keep], vparams[keep]
 

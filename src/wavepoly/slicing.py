@@ -8,10 +8,11 @@ rapid prototyping.
 
 Uniform layers have one thickness and project the whole slab. Adaptive layers (Wu, Wong, Loh
 & Zhang 2004, "Modelling cloud data using an adaptive slicing approach") are as thick as the
-shape allows: a slab is accepted when each of its points lies within tolerance / 2, in its
-plane, of a point of the band, and the band is fitted within tolerance / 2, so every slab point
-is within the tolerance of its layer's contours (triangle inequality). The error of the layer
-model is measured afterwards either way, and reported per layer.
+shape allows: a candidate slab's mid-plane band is fitted within tolerance / 2 and the slab is
+accepted when every slab point lies within the tolerance, in its plane, of those contours; the
+thickness grows from the previous layer's while that holds and shrinks when it fails, between
+``min_layer`` and ``max_layer``. The error of the layer model is measured either way and
+reported per layer; only layers at ``min_layer`` can exceed the tolerance (caps, ledges).
 
 Layers are independent: `fit_layer` is a pure function of (band points, parameters), run in a
 local process pool here and ready for a cluster engine.
@@ -34,7 +35,6 @@ from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from .errors import DataError, ParameterError, check_tolerance
 from .fit import fit
@@ -89,8 +89,9 @@ class SliceResult:
 
     @property
     def model_error(self) -> float:
-        """Largest in-plane distance of a cloud point to the contours of its layer."""
-        errs = [la.model_error for la in self.layers if la.slab_points]
+        """Largest in-plane distance of a cloud point to the contours of its layer (layers
+        with no contour are counted in `notes` instead)."""
+        errs = [la.model_error for la in self.layers if la.slab_points and la.fit.contours]
         return max(errs) if errs else 0.0
 
     @property
@@ -140,7 +141,8 @@ def slice_cloud(points3d: FloatArray, tolerance: float, *, axis: str | FloatArra
     band : thickness of the band of points projected onto each layer's mid-plane. Default:
         the whole slab for uniform layers, ``min_layer`` for adaptive ones.
     relative_tolerance : eq. 7 threshold passed to `wavepoly.fit`.
-    workers : processes for the layers' fits (default: all cores; 1 runs in this process).
+    workers : processes for uniform layers' fits (default: all cores; 1 runs in this process);
+        adaptive layers are fitted in sequence, each thickness depending on the fit.
     progress : called as ``progress(done, total)`` after each layer.
     """
     pts = validate_points(points3d, source="cloud", min_points=3)
@@ -158,29 +160,32 @@ def slice_cloud(points3d: FloatArray, tolerance: float, *, axis: str | FloatArra
         if lo > hi:
             raise ParameterError(f"min_layer {lo:g} is thicker than max_layer {hi:g}")
         band = check_tolerance(band, "band") if band is not None else lo
-        bottoms, thick = adaptive_layers(height, uv, tolerance, lo, hi, band)
-        fit_tol = tolerance / 2
+        plan = adaptive_layers(height, uv, tolerance, lo, hi, band, relative_tolerance,
+                               progress)
+        bottoms = np.array([p[0] for p in plan])
+        thick = np.array([p[1] for p in plan])
+        fits = [p[2] for p in plan]
+        bands = [_band(height, b + t / 2, min(band, t)) for b, t in zip(bottoms, thick)]
+        planning, fitting = time.perf_counter() - t0, 0.0
     else:
         if layer_thickness is None:
             raise ParameterError("give a layer thickness, or adaptive=True with its bounds")
         step = check_tolerance(layer_thickness, "layer_thickness")
         bottoms, thick = uniform_layers(height[0], height[-1], step)
         band = check_tolerance(band, "band") if band is not None else None
-        fit_tol = tolerance
-    planning = time.perf_counter() - t0
-    bands = [_band(height, b + t / 2, t if band is None else min(band, t)) for b, t in
-             zip(bottoms, thick)]
-    jobs = [(uv[i0:i1], fit_tol, relative_tolerance, float(b + t / 2))
-            for (i0, i1), b, t in zip(bands, bottoms, thick)]
-    t0 = time.perf_counter()
-    fits = _run(jobs, workers, progress)
-    fitting = time.perf_counter() - t0
+        planning = time.perf_counter() - t0
+        bands = [_band(height, b + t / 2, t if band is None else min(band, t)) for b, t in
+                 zip(bottoms, thick)]
+        jobs = [(uv[i0:i1], tolerance, relative_tolerance, float(b + t / 2))
+                for (i0, i1), b, t in zip(bands, bottoms, thick)]
+        t0 = time.perf_counter()
+        fits = _run(jobs, workers, progress)
+        fitting = time.perf_counter() - t0
     t0 = time.perf_counter()
     layers = []
     for (i0, i1), b, t, res in zip(bands, bottoms, thick, fits):
         s0, s1 = np.searchsorted(height, [b, b + t])
-        slab = uv[s0:s1]
-        err = float(distance_to_contours(slab, res.contours).max(initial=0.0)) if len(slab) else 0.0
+        err = _model_error(uv[s0:s1], res)
         layers.append(Layer(float(b), float(t), (float(height[i0]) if i1 > i0 else b,
                                                  float(height[i1 - 1]) if i1 > i0 else b),
                             res, int(s1 - s0), err))
@@ -199,38 +204,55 @@ def uniform_layers(low: float, high: float, thickness: float) -> tuple[FloatArra
 
 
 def adaptive_layers(height: FloatArray, uv: FloatArray, tolerance: float, min_layer: float,
-                    max_layer: float, band: float, shrink: float = 0.8
-                    ) -> tuple[FloatArray, FloatArray]:
-    """Bottoms and thicknesses of adaptive layers over points sorted by ``height``.
+                    max_layer: float, band: float, relative_tolerance: float | str = 0.05,
+                    progress: Callable[[int, int], None] | None = None, grow: float = 1.25
+                    ) -> list[tuple[float, float, FitResult]]:
+    """(bottom, thickness, fit) of adaptive layers over points sorted by ``height``.
 
-    From the bottom up, each layer starts at ``max_layer`` and shrinks by ``shrink`` until every
-    point of its slab lies within ``tolerance / 2`` (in the plane) of a point of the band of
-    width ``band`` around its mid-plane, or until it reaches ``min_layer``.
+    Each layer starts from the previous thickness; it grows by ``grow`` while the slab stays
+    within ``tolerance`` of its band's contours (fitted within ``tolerance / 2``) and shrinks
+    by the same factor when it does not, within [min_layer, max_layer].
     """
-    bottoms, thick = [], []
-    z, top = float(height[0]), float(height[-1])
-    while z < top or not bottoms:
-        t = max_layer
-        while t > min_layer:
-            if _slab_within(height, uv, z, t, band, tolerance / 2):
-                break
-            t = max(min_layer, t * shrink)
-        bottoms.append(z)
-        thick.append(t)
+    plan: list[tuple[float, float, FitResult]] = []
+    z, top, t = float(height[0]), float(height[-1]), max_layer
+    total = max(1, int(np.ceil((top - z) / min_layer)))
+    while z < top or not plan:
+        res, ok = _try_layer(height, uv, z, t, band, tolerance, relative_tolerance)
+        if ok:
+            while t < max_layer:
+                bigger = min(max_layer, t * grow)
+                res2, ok2 = _try_layer(height, uv, z, bigger, band, tolerance,
+                                       relative_tolerance)
+                if not ok2:
+                    break
+                t, res = bigger, res2
+        else:
+            while not ok and t > min_layer:
+                t = max(min_layer, t / grow)
+                res, ok = _try_layer(height, uv, z, t, band, tolerance, relative_tolerance)
+        plan.append((z, t, res))
         z += t
-    return np.array(bottoms), np.array(thick)
+        if progress:
+            progress(min(total, int(np.ceil((z - height[0]) / min_layer))), total)
+    return plan
 
 
-def _slab_within(height: FloatArray, uv: FloatArray, bottom: float, thickness: float,
-                 band: float, limit: float) -> bool:
+def _try_layer(height, uv, bottom, thickness, band, tolerance, relative_tolerance
+               ) -> tuple[FitResult, bool]:
+    """Fit the mid-plane band within tolerance / 2; is every slab point within tolerance?"""
+    mid = bottom + thickness / 2
+    b0, b1 = _band(height, mid, min(band, thickness))
+    res = fit_layer(uv[b0:b1], tolerance / 2, relative_tolerance, mid)
     s0, s1 = np.searchsorted(height, [bottom, bottom + thickness])
-    if s1 - s0 == 0:
-        return True
-    b0, b1 = _band(height, bottom + thickness / 2, min(band, thickness))
-    if b1 - b0 < 3:
-        return False
-    dist, _ = cKDTree(uv[b0:b1]).query(uv[s0:s1], distance_upper_bound=limit * (1 + 1e-9))
-    return bool(np.isfinite(dist).all())
+    if s1 == s0:
+        return res, True
+    return res, _model_error(uv[s0:s1], res) <= tolerance * (1 + 1e-9)
+
+
+def _model_error(slab: FloatArray, res: FitResult) -> float:
+    if not len(slab):
+        return 0.0
+    return float(distance_to_contours(slab, res.contours).max())
 
 
 def _band(height: FloatArray, mid: float, width: float) -> tuple[int, int]:
@@ -294,7 +316,10 @@ def summary(result: SliceResult) -> str:
     """One line: layers, thickness range, contours, vertices, model error."""
     thick = np.array([la.thickness for la in result.layers])
     n_contours = sum(len(la.fit.contours) for la in result.layers)
+    within = sum(la.model_error <= result.tolerance * (1 + 1e-9) for la in result.layers
+                 if la.slab_points)  # a layer with points but no contour is not within
     return (f"{result.n_points} points -> {len(result.layers)} layers "
             f"({'adaptive' if result.adaptive else 'uniform'}, thickness {thick.min():.4g}"
             f"-{thick.max():.4g}), {n_contours} contours, {result.n_vertices} vertices, "
-            f"layer model error {result.model_error:.4g} (tolerance {result.tolerance:g})")
+            f"layer model error {result.model_error:.4g} (tolerance {result.tolerance:g}; "
+            f"{within} of {sum(la.slab_points > 0 for la in result.layers)} layers within it)")
