@@ -9,7 +9,7 @@ import time
 
 from .common import DOCS
 
-PARTS = ["wavelets", "ordering", "fit", "peers", "slicing"]
+PARTS = ["wavelets", "ordering", "fit", "slicing", "figures"]
 
 
 def main(argv: list[str]) -> None:
