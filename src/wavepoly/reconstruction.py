@@ -1,4 +1,4 @@
-"""Reconstruction from coarser to finer levels (paper §4, eq. 8-11), verified and pruned.
+"""Reconstruction, coarse to fine (paper §4, eq. 8-11): verified, with the fewest vertices.
 
 Starting at the coarsest level of a `Pyramid`, runs of storable coefficients (eq. 8-9) become
 multi-storable coefficients (MSCs) kept in a global dynamic list (GDL); the data points they
@@ -60,7 +60,7 @@ class Reconstruction:
     closed: bool
     mscs: list[Msc]
     start_level: int
-    wavelet_vertices: int  # after MSC assembly and repair, before pruning
+    wavelet_vertices: int  # after MSC assembly and repair, before the selection
     max_error: float
     mean_error: float
 
@@ -234,7 +234,7 @@ def _delete_covered(points, idx_alive, owner, coeffs, run_id, closed, tolerance,
 
 
 # ---------------------------------------------------------------------------------------------
-# assembly, verification and repair, pruning
+# assembly, verification and repair, fewest-vertex selection
 
 
 def reconstruct_contour(pyramid: Pyramid, ordered: FloatArray, points: FloatArray,
@@ -339,7 +339,7 @@ def own_edge_distance(vertices: FloatArray, vparams: FloatArray, points: FloatAr
     """Distance of each point to the polygon edge whose parameter span holds it.
 
     This bounds the distance to the polygon; keeping it within the tolerance is the invariant
-    that repair establishes and pruning preserves.
+    that repair establishes and the selection preserves.
     """
     e = _edge_of(vparams, params, closed)
     return segment_distance(points, vertices[e], vertices[(e + 1) % len(vertices)])
@@ -584,41 +584,3 @@ def _shortest(feasible: list[np.ndarray], start: int, end: int, min_edges: int =
     for par in layer_parent[::-1]:
         path.append(int(par[path[-1]]))
     return np.array(path[::-1], dtype=np.intp)
-
-
-def prune_vertices(vertices: FloatArray, vparams: FloatArray, points: FloatArray,
-                   params: FloatArray, closed: bool, tolerance: float
-                   ) -> tuple[FloatArray, FloatArray]:
-    """Remove every vertex whose removal keeps all points within ``tolerance`` (verified).
-
-    Points are tied to the edge whose parameter span holds them (`own_edge_distance`, which the
-    repair has brought within the tolerance); removing vertex i is allowed when every point of
-    edges i-1 and i is within the tolerance of the chord from vertex i-1 to i+1, so the
-    invariant, and with it the tolerance, holds after every round. Each round removes the removable
-    vertices that are cheaper than their removable neighbours (never two adjacent ones).
-    """
-    limit = tolerance * (1 + SLACK)
-    min_keep = 3 if closed else 2
-    while len(vertices) > min_keep:
-        k = len(vertices)
-        e = _edge_of(vparams, params, closed)
-        idx = np.arange(k)
-        prev, nxt, nxt2 = (idx - 1) % k, (idx + 1) % k, (idx + 2) % k
-        cost = np.zeros(k)
-        # removing vertex e merges edges e-1 and e; removing e+1 merges edges e and e+1
-        np.maximum.at(cost, e, segment_distance(points, vertices[prev[e]], vertices[nxt[e]]))
-        np.maximum.at(cost, nxt[e], segment_distance(points, vertices[e], vertices[nxt2[e]]))
-        if not closed:
-            cost[[0, -1]] = np.inf
-        removable = cost <= limit
-        if not removable.any():
-            break
-        key = np.where(removable, cost, np.inf)
-        better_than_prev = (key < key[prev]) | ((key == key[prev]) & (idx < prev))
-        better_than_next = (key < key[nxt]) | ((key == key[nxt]) & (idx < nxt))
-        drop = removable & better_than_prev & better_than_next
-        if not closed:
-            drop[[0, -1]] = False
-        drop[np.flatnonzero(drop)[k - min_keep:]] = False  # never below a segment or triangle
-        vertices, vparams = vertices[~drop], vparams[~drop]
-    return vertices, vparams
