@@ -38,18 +38,27 @@ def _closed(xy: FloatArray, closed: bool) -> FloatArray:
     return np.vstack([xy, xy[:1]]) if closed and len(xy) else xy
 
 
+def _contours_over_points(ax, points: FloatArray, polylines: list[tuple[FloatArray, bool]],
+                          lw: float, marker: dict) -> None:
+    """Raw points in grey, then each polyline in its own colour with its points marked."""
+    ax.plot(points[:, 0], points[:, 1], ".", ms=1, color="0.75", zorder=1)
+    for k, (xy, closed) in enumerate(polylines):
+        colour = _COLOURS[k % len(_COLOURS)]
+        line = _closed(xy, closed)
+        ax.plot(line[:, 0], line[:, 1], "-", lw=lw, color=colour, zorder=2)
+        ax.plot(xy[:, 0], xy[:, 1], linestyle="none", color=colour, zorder=3, **marker)
+
+
 def plot_ordering(points: FloatArray, ordering: Ordering, ax=None, title: str | None = None):
     """Fig. 1: raw points in grey, each ordered contour in its own colour, outliers in black."""
     ax = _axes(ax, title or f"{len(points)} points -> {len(ordering.contours)} contours, "
                f"{sum(len(c.points) for c in ordering.contours)} ordered points")
-    ax.plot(points[:, 0], points[:, 1], ".", ms=1, color="0.75", zorder=1)
-    for k, c in enumerate(ordering.contours):
-        xy = _closed(c.points, c.closed)
-        colour = _COLOURS[k % len(_COLOURS)]
-        ax.plot(xy[:, 0], xy[:, 1], "-", lw=0.8, color=colour, zorder=2)
-        ax.plot(c.points[:, 0], c.points[:, 1], ".", ms=2.5, color=colour, zorder=3)
+    _contours_over_points(ax, points, [(c.points, c.closed) for c in ordering.contours],
+                          lw=0.8, marker={"marker": ".", "ms": 2.5})
+    for k, c in enumerate(ordering.contours):  # the ends of open contours
         if not c.closed:
-            ax.plot(*c.points[[0, -1]].T, "x", color=colour, ms=6, zorder=4)
+            ax.plot(*c.points[[0, -1]].T, "x", color=_COLOURS[k % len(_COLOURS)], ms=6,
+                    zorder=4)
     if len(ordering.outliers):
         out = points[ordering.outliers]
         ax.plot(out[:, 0], out[:, 1], ".", ms=3, color="k", zorder=4)
@@ -77,13 +86,8 @@ def plot_fit(points: FloatArray, result: FitResult, ax=None, title: str | None =
     n_v = result.n_vertices
     ax = _axes(ax, title or f"{result.n_points} points -> {n_v} vertices, "
                f"max error {result.max_error:.3g} (tolerance {result.tolerance:.3g})")
-    ax.plot(points[:, 0], points[:, 1], ".", ms=1, color="0.7", zorder=1)
-    for k, c in enumerate(result.contours):
-        xy = _closed(c.vertices, c.closed)
-        colour = _COLOURS[k % len(_COLOURS)]
-        ax.plot(xy[:, 0], xy[:, 1], "-", lw=1, color=colour, zorder=2)
-        ax.plot(c.vertices[:, 0], c.vertices[:, 1], "o", ms=3, mfc="white", color=colour,
-                zorder=3)
+    _contours_over_points(ax, points, [(c.vertices, c.closed) for c in result.contours],
+                          lw=1.0, marker={"marker": "o", "ms": 3, "mfc": "white"})
     if len(result.outliers):
         out = points[result.outliers]
         ax.plot(out[:, 0], out[:, 1], ".", ms=3, color="k", zorder=4)
