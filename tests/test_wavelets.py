@@ -146,15 +146,26 @@ def test_decompose_reconstruct_round_trip(level, closed, seed, depth):
     assert np.abs(back - c).max() <= 1e-12 * np.abs(c).max()
 
 
-def test_analysis_inverts_synthesis():
-    rng = np.random.default_rng(3)
-    for closed in (False, True):
-        level = 9
-        coarse = rng.normal(size=(W.n_coefficients(level - 1, closed), 2))
-        detail = rng.normal(size=(2 ** (level - 1), 2))
-        c2, d2 = W.analyze(W.synthesize(coarse, detail, closed), closed)
-        np.testing.assert_allclose(c2, coarse, atol=1e-12)
-        np.testing.assert_allclose(d2, detail, atol=1e-12)
+@pytest.mark.parametrize("closed", [False, True])
+@pytest.mark.parametrize("level", [3, 4, 5, 9, 10, 11, 13])
+def test_analysis_inverts_synthesis(level, closed):
+    """Covers the FFT solver where the periodic taps wrap (level 3) and the widened open LU."""
+    rng = np.random.default_rng(level)
+    coarse = rng.normal(size=(W.n_coefficients(level - 1, closed), 2))
+    detail = rng.normal(size=(2 ** (level - 1), 2))
+    c2, d2 = W.analyze(W.synthesize(coarse, detail, closed), closed)
+    np.testing.assert_allclose(c2, coarse, atol=1e-12)
+    np.testing.assert_allclose(d2, detail, atol=1e-12)
+
+
+@pytest.mark.parametrize("level", [10, 12])
+def test_widened_lu_equals_a_direct_factorization(level):
+    """The reference level's factors, repeated, are the finer level's factors to the last bit."""
+    direct = W._OpenSolver.build(level)
+    widened = W._solver(W._REFERENCE_LEVEL, False).widened(level)
+    np.testing.assert_array_equal(widened.order, direct.order)
+    np.testing.assert_array_equal(widened.lu.piv, direct.lu.piv)
+    np.testing.assert_allclose(widened.lu.lu, direct.lu.lu, rtol=0, atol=1e-15)
 
 
 def test_wrong_sizes_are_clear_errors():

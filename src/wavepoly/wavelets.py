@@ -14,8 +14,9 @@ span the orthogonal complement of V[j-1] in V[j] with minimal support, found her
 of ``P^T I`` (I the Gram matrix) and scaled so that every wavelet has norm sqrt(h), h = 2**-j,
 which keeps cond([P | Q]) near 11 at every level.
 
-A and B are dense and are never formed: analysis solves ``[P | Q] x = c`` with a banded LU
-(open) or a sparse LU (periodic), factorized once per level and cached, so each level costs O(n).
+A and B are dense and are never formed. Open levels solve ``[P | Q] x = c`` with a banded LU,
+factorized once (at a reference level) and cached, so each level costs O(n); periodic levels are
+block-circulant and solve by FFT, O(n log n) with nothing to factor.
 
 Examples
 --------
@@ -36,7 +37,6 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.interpolate import BSpline
 from scipy.linalg import lapack
-from scipy.sparse.linalg import splu
 
 from .errors import ParameterError
 from .types import FloatArray
@@ -278,16 +278,26 @@ def _check_level(level: int, closed: bool) -> None:
 class _BandedLU:
     """LU factors of a banded matrix (LAPACK gbtrf), reusable for many right-hand sides."""
 
-    def __init__(self, mat: sp.csr_matrix):
+    def __init__(self, lu: FloatArray, piv: np.ndarray, kl: int, ku: int):
+        self.lu, self.piv, self.kl, self.ku = lu, piv, kl, ku
+
+    @classmethod
+    def factor(cls, mat: sp.csr_matrix) -> _BandedLU:
         coo = mat.tocoo()
-        self.kl = int(max(0, (coo.row - coo.col).max()))
-        self.ku = int(max(0, (coo.col - coo.row).max()))
-        n = mat.shape[0]
-        ab = np.zeros((2 * self.kl + self.ku + 1, n))
-        ab[self.kl + self.ku + coo.row - coo.col, coo.col] = coo.data
-        self.lu, self.piv, info = lapack.dgbtrf(ab, self.kl, self.ku)
+        kl = int(max(0, (coo.row - coo.col).max()))
+        ku = int(max(0, (coo.col - coo.row).max()))
+        ab = np.zeros((2 * kl + ku + 1, mat.shape[0]))
+        ab[kl + ku + coo.row - coo.col, coo.col] = coo.data
+        lu, piv, info = lapack.dgbtrf(ab, kl, ku)
         if info != 0:
             raise ArithmeticError("[P|Q] is singular")  # pragma: no cover
+        return cls(lu, piv, kl, ku)
+
+    def widened(self, n: int, edge: int) -> _BandedLU:
+        """The factors of the same shift-invariant matrix at size ``n`` (see `_open_solver`)."""
+        lu = _stretch(np.ascontiguousarray(self.lu.T), n, edge).T  # Fortran order, as LAPACK
+        rel = _stretch(self.piv - np.arange(len(self.piv)), n, edge)
+        return _BandedLU(lu, (rel + np.arange(n)).astype(self.piv.dtype), self.kl, self.ku)
 
     def solve(self, rhs: FloatArray) -> FloatArray:
         x, info = lapack.dgbtrs(self.lu, self.kl, self.ku, rhs, self.piv)
@@ -296,35 +306,108 @@ class _BandedLU:
         return x
 
 
-class _AnalysisSolver:
-    """Solves [P | Q] x = c for one level; columns interleaved so the open matrix is banded."""
+def _stretch(a: np.ndarray, n: int, edge: int, step: int = 0) -> np.ndarray:
+    """Lengthen ``a`` to ``n`` rows by repeating its period-2 middle.
 
-    def __init__(self, level: int, closed: bool):
-        p, q = synthesis_p(level, closed), synthesis_q(level, closed)
-        self.n_coarse = p.shape[1]
+    The first and last ``edge`` rows are kept; the middle repeats rows ``edge`` and ``edge + 1``,
+    adding ``step`` per period; the last ``edge`` rows get the total added.
+    """
+    reps, pairs = n - 2 * edge, (n - 2 * edge) // 2
+    out = np.empty((n,) + a.shape[1:], dtype=a.dtype)
+    out[:edge], out[n - edge:] = a[:edge], a[-edge:] + step * ((n - len(a)) // 2)
+    periods = out[edge:edge + 2 * pairs].reshape((pairs, 2) + a.shape[1:])
+    periods[:] = a[edge:edge + 2]
+    if reps % 2:
+        out[edge + reps - 1] = a[edge]
+    if step:
+        out[edge:n - edge] += step * (np.arange(reps) // 2).reshape((-1,) + (1,) * (a.ndim - 1))
+    return out
+
+
+class _OpenSolver:
+    """Solves [P | Q] x = c for one open level; columns interleaved so the matrix is banded."""
+
+    def __init__(self, order: np.ndarray, n_coarse: int, lu: _BandedLU):
+        self.order, self.n_coarse, self.lu = order, n_coarse, lu
+
+    @classmethod
+    def build(cls, level: int) -> _OpenSolver:
+        p, q = synthesis_p(level), synthesis_q(level)
         pq = sp.hstack([p, q]).tocsc()
         counts = np.diff(pq.indptr)
         owner = np.repeat(np.arange(pq.shape[1]), counts)
         centre = np.bincount(owner, weights=pq.indices, minlength=pq.shape[1]) / counts
-        self.perm = np.argsort(centre, kind="stable")
-        permuted = pq[:, self.perm]
-        if closed:
-            self.lu = splu(permuted.tocsc())
-            self._solve = self.lu.solve
-        else:
-            banded = _BandedLU(permuted.tocsr())
-            self._solve = banded.solve
+        order = np.argsort(centre, kind="stable")
+        return cls(order, p.shape[1], _BandedLU.factor(pq[:, order].tocsr()))
+
+    def widened(self, level: int) -> _OpenSolver:
+        """This reference level's solver carried to a finer ``level`` without a new factorization.
+
+        Away from the ends, interleaved [P | Q] is invariant under a shift of two rows and two
+        columns, and its LU factors converge to that period within about 70 columns (they
+        agree to the last bit beyond; `tests/test_wavelets.py` checks it against a direct
+        factorization). So the factors of level j are those of the reference level with the
+        periodic middle repeated, which costs O(n) with no arithmetic.
+        """
+        n = n_coefficients(level)
+        is_q = self.order >= self.n_coarse
+        index = np.where(is_q, self.order - self.n_coarse, self.order)
+        n_coarse = n_coefficients(level - 1)
+        index = _stretch(index, n, _EDGE, step=1)
+        is_q = _stretch(is_q.astype(np.int64), n, _EDGE).astype(bool)
+        order = np.where(is_q, index + n_coarse, index)
+        return _OpenSolver(order, n_coarse, self.lu.widened(n, _EDGE))
 
     def __call__(self, c: FloatArray) -> tuple[FloatArray, FloatArray]:
-        y = self._solve(np.ascontiguousarray(c, dtype=np.float64))
+        y = self.lu.solve(np.ascontiguousarray(c, dtype=np.float64))
         x = np.empty_like(y)
-        x[self.perm] = y
+        x[self.order] = y
         return x[: self.n_coarse], x[self.n_coarse:]
 
 
+class _PeriodicSolver:
+    """Solves [P | Q] x = c for one periodic level by FFT: O(n log n), nothing to factor.
+
+    Split c into even and odd rows; each is a sum of two circular convolutions (of the coarse
+    and of the detail coefficients), so at every frequency the analysis is a 2 x 2 solve.
+    """
+
+    def __init__(self, level: int):
+        self.n = 2 ** (level - 1)
+        (pe, po), (qe, qo) = (self._polyphase(taps, first) for taps, first in
+                              ((_P_PERIODIC, -2), (chui_wang(), -2)))
+        det = pe * qo - qe * po
+        self.rows = np.array([[qo, -qe], [-po, pe]]) / det  # inverse of [[pe, qe], [po, qo]]
+
+    def _polyphase(self, taps: FloatArray, first: int) -> tuple[np.ndarray, np.ndarray]:
+        """Spectra of the even- and odd-row kernels of a filter with taps at 2i + first + t."""
+        offsets = first + np.arange(len(taps))
+        kernels = np.zeros((2, self.n))
+        np.add.at(kernels, (offsets % 2, (offsets // 2) % self.n), taps)  # wrapped taps add up
+        return np.fft.rfft(kernels[0]), np.fft.rfft(kernels[1])
+
+    def __call__(self, c: FloatArray) -> tuple[FloatArray, FloatArray]:
+        spectra = np.fft.rfft(np.asarray(c, dtype=np.float64).reshape(self.n, 2, -1), axis=0)
+        even, odd = spectra[:, 0], spectra[:, 1]
+        rows = self.rows[..., None]
+        coarse = rows[0, 0] * even + rows[0, 1] * odd
+        detail = rows[1, 0] * even + rows[1, 1] * odd
+        return (np.fft.irfft(coarse, n=self.n, axis=0), np.fft.irfft(detail, n=self.n, axis=0))
+
+
+#: Open levels above this one reuse its LU factors (`_OpenSolver.widened`).
+_REFERENCE_LEVEL = 9
+#: Columns at each end of the reference factors that hold the boundary transients.
+_EDGE = 128
+
+
 @lru_cache(maxsize=64)
-def _solver(level: int, closed: bool) -> _AnalysisSolver:
-    return _AnalysisSolver(level, closed)
+def _solver(level: int, closed: bool) -> _OpenSolver | _PeriodicSolver:
+    if closed:
+        return _PeriodicSolver(level)
+    if level <= _REFERENCE_LEVEL:
+        return _OpenSolver.build(level)
+    return _solver(_REFERENCE_LEVEL, False).widened(level)
 
 
 def analyze(c: FloatArray, closed: bool = False) -> tuple[FloatArray, FloatArray]:
