@@ -232,3 +232,23 @@ def test_short_run_between_gaps_does_not_close_on_itself(seed, run):
     ordering = order_points(pts, 0.15)
     assert len(ordering.contours) == 1 and ordering.contours[0].closed
     check_coverage(pts, ordering)
+
+
+@pytest.mark.parametrize("noise", [0.0, 0.004])
+def test_dense_scans_are_summarized_by_cell_atoms(noise):
+    """Dense points go through per-cell moments (`_atoms`); the contours must not change."""
+    from wavepoly.ordering import _atoms
+
+    shape = glyph_outlines("B")
+    pts = sample_rings(shape.rings, spacing=0.001, noise=noise, seed=5)
+    atoms = _atoms(pts, 0.08)
+    assert len(atoms.xy) < len(pts) / 4 and atoms.weight.sum() == len(pts)
+    ordering = order_points(pts, 0.08)
+    assert len(ordering.contours) == 3 and all(c.closed for c in ordering.contours)
+    truth = densify(shape, 0.005)
+    assert sorted(order_agreement(c.points, truth, closed=True)[0]
+                  for c in ordering.contours) == [0, 1, 2]
+    assert min(order_agreement(c.points, truth, closed=True)[1]
+               for c in ordering.contours) >= 0.99
+    assert len(ordering.outliers) <= 0.001 * len(pts)
+    check_coverage(pts, ordering)

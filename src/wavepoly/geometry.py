@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import shapely
+from scipy.spatial import cKDTree
 
 from .types import Contour, FloatArray, IntArray
 
@@ -23,6 +24,15 @@ def segment_distance(points: FloatArray, a: FloatArray, b: FloatArray) -> FloatA
     return np.sqrt(np.einsum("...i,...i->...", diff, diff))
 
 
+def _segment_distance_xy(px, py, ax, ay, bx, by):
+    """`segment_distance` on separate coordinate arrays (broadcasting; faster on big grids)."""
+    ux, uy, wx, wy = bx - ax, by - ay, px - ax, py - ay
+    denom = ux * ux + uy * uy
+    t = np.clip((wx * ux + wy * uy) / np.where(denom > 0, denom, 1.0), 0.0, 1.0)
+    dx, dy = wx - t * ux, wy - t * uy
+    return np.sqrt(dx * dx + dy * dy)
+
+
 def polyline_segments(vertices: FloatArray, closed: bool) -> tuple[FloatArray, FloatArray]:
     """Start and end points of each segment of a polyline (closed: last to first too)."""
     if closed:
@@ -30,20 +40,95 @@ def polyline_segments(vertices: FloatArray, closed: bool) -> tuple[FloatArray, F
     return vertices[:-1], vertices[1:]
 
 
-def nearest_segment(points: FloatArray, vertices: FloatArray, closed: bool
-                    ) -> tuple[IntArray, FloatArray]:
+def nearest_segment(points: FloatArray, vertices: FloatArray, closed: bool, *,
+                    k: int = 4) -> tuple[IntArray, FloatArray]:
     """Index of the nearest segment of a polyline for each point, and the distance to it.
 
-    Segment i runs from vertex i to vertex i+1 (wrapping when ``closed``). Uses a shapely
-    STRtree, so it is O((n + m) log m) for n points and m segments.
+    Segment i runs from vertex i to vertex i+1 (wrapping when ``closed``). Exact and about
+    O((n + m) log m) for n points and m segments: each point tries the segments beside its ``k``
+    nearest vertices (a KD-tree query). That is provably enough when the best of them is nearer
+    than ``sqrt(D_k**2 - (L/2)**2)``, D_k the k-th vertex distance and L the longest segment,
+    because a segment whose ends are both at least D_k away is at least that far. A few long
+    segments (over 2 x the median: gaps, corners cut straight) are measured against every point
+    instead, so they do not spoil the bound; points still without a proof go to an STRtree.
+
+    >>> square = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+    >>> nearest_segment(np.array([[0.5, -0.2], [1.1, 0.5]]), square, True)
+    (array([0, 1]), array([0.2, 0.1]))
     """
     a, b = polyline_segments(vertices, closed)
-    segs = shapely.linestrings(np.stack([a, b], axis=1))
-    tree = shapely.STRtree(segs)
+    points = np.asarray(points, dtype=np.float64)
+    if len(points) == 0 or len(a) == 0:
+        return np.zeros(len(points), dtype=np.intp), np.full(len(points), np.inf)
+    k = min(k, len(vertices))
+    vdist, vidx = cKDTree(vertices).query(points, k=k)
+    vdist, vidx = vdist.reshape(len(points), k), vidx.reshape(len(points), k)
+    cand = np.concatenate([vidx - 1, vidx], axis=1)
+    cand = cand % len(a) if closed else np.clip(cand, 0, len(a) - 1)
+    length = np.hypot(*(b - a).T)
+    long = np.flatnonzero(length > 2.0 * np.median(length))
+    if 0 < len(long) <= _LONG_SEGMENTS and len(long) < len(a):
+        cand = np.concatenate([cand, np.broadcast_to(long, (len(points), len(long)))], axis=1)
+        length[long] = 0.0  # measured directly: out of the bound
+    d = _segment_distance_xy(points[:, 0:1], points[:, 1:2], a[:, 0][cand], a[:, 1][cand],
+                             b[:, 0][cand], b[:, 1][cand])
+    pick = np.argmin(d, axis=1)
+    rows = np.arange(len(points))
+    seg, dist = cand[rows, pick], d[rows, pick]
+    if k < len(vertices):
+        bound = np.sqrt(np.maximum(vdist[:, -1] ** 2 - (0.5 * length.max()) ** 2, 0.0))
+        unsure = np.flatnonzero(dist > bound)
+        if len(unsure):
+            seg[unsure], dist[unsure] = _nearest_segment_tree(points[unsure], a, b)
+    return seg.astype(np.intp), dist
+
+
+#: Segments longer than 2 x the median that `nearest_segment` measures against every point.
+_LONG_SEGMENTS = 16
+
+
+def _nearest_segment_tree(points: FloatArray, a: FloatArray, b: FloatArray
+                          ) -> tuple[IntArray, FloatArray]:
+    tree = shapely.STRtree(shapely.linestrings(np.stack([a, b], axis=1)))
     (pidx, sidx), dist = tree.query_nearest(shapely.points(points), return_distance=True,
                                             all_matches=False)
     order = np.argsort(pidx, kind="stable")
     return sidx[order].astype(np.intp), dist[order]
+
+
+def farther_than(points: FloatArray, vertices: FloatArray, closed: bool, limit: float
+                 ) -> tuple[IntArray, IntArray, FloatArray]:
+    """The points farther than ``limit`` from a polyline: indices, nearest segments, distances.
+
+    Each point is first measured against the two segments beside its nearest vertex, an upper
+    bound on its distance; only the points that bound does not clear get `nearest_segment`.
+
+    >>> line = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]])
+    >>> farther_than(np.array([[0.5, 0.1], [1.5, 0.3]]), line, False, 0.2)
+    (array([1]), array([1]), array([0.3]))
+    """
+    points = np.asarray(points, dtype=np.float64)
+    a, b = polyline_segments(vertices, closed)
+    if len(a) == 0:
+        dist = np.linalg.norm(points - vertices[0], axis=1)
+        far = np.flatnonzero(dist > limit)
+        return far, np.zeros(len(far), dtype=np.intp), dist[far]
+    _, v = cKDTree(vertices).query(points)
+    cand = np.column_stack([v - 1, v])
+    cand = cand % len(a) if closed else np.clip(cand, 0, len(a) - 1)
+    bound = _segment_distance_xy(points[:, 0:1], points[:, 1:2], a[:, 0][cand], a[:, 1][cand],
+                                 b[:, 0][cand], b[:, 1][cand]).min(axis=1)
+    maybe = np.flatnonzero(bound > limit)
+    seg, dist = nearest_segment(points[maybe], vertices, closed)
+    far = dist > limit
+    return maybe[far], seg[far], dist[far]
+
+
+def polyline_distance(points: FloatArray, vertices: FloatArray, closed: bool) -> FloatArray:
+    """Distance of each point to a polyline (closed: including the last-to-first segment)."""
+    if len(vertices) == 1:
+        return np.linalg.norm(np.asarray(points) - vertices[0], axis=1)
+    return nearest_segment(points, vertices, closed)[1]
 
 
 def contour_geometry(contour: Contour) -> shapely.Geometry:

@@ -26,15 +26,15 @@ All neighbour queries use `scipy.spatial.cKDTree`; the cost is O(n log n).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
-import shapely
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components, depth_first_order
 from scipy.spatial import cKDTree
 
 from .errors import DataError, check_tolerance
-from .geometry import nearest_segment
+from .geometry import farther_than
 from .io.readers import validate_points
 from .types import FloatArray, IntArray, OrderedContour, Ordering
 
@@ -67,6 +67,18 @@ def curve_spacing(points: FloatArray, sample: int = 20000, seed: int = 0) -> flo
     third of the mean gap for random sampling) it sees the gaps that break a march.
     """
     return 0.5 * _neighbour_distance(points, 4, sample, seed)
+
+
+def _spacing_bound(points: FloatArray, seed: int, subset: int = 100_000) -> float:
+    """A cheap upper estimate of `curve_spacing` for big clouds, from a random subset.
+
+    Thinning points to a fraction f stretches their spacing by 1/f along a curve and by
+    1/sqrt(f) over an area, so the subset's spacing times sqrt(f) is at least the full one.
+    """
+    if len(points) <= 2 * subset:
+        return curve_spacing(points, seed=seed)
+    pick = np.random.default_rng(seed).choice(len(points), subset, replace=False)
+    return curve_spacing(points[pick], seed=seed) * np.sqrt(subset / len(points))
 
 
 def _neighbour_distance(points: FloatArray, k: int, sample: int, seed: int) -> float:
@@ -105,15 +117,17 @@ def order_points(points: FloatArray, radius: float, *, seed: int = 0, min_points
     pts = validate_points(points, source="points")[:, :2]
     radius = check_tolerance(radius, "radius")
     notes = []
-    spacing = curve_spacing(pts, seed=seed)
+    spacing = _spacing_bound(pts, seed)
+    if spacing > radius / 3:
+        spacing = curve_spacing(pts, seed=seed)
     if spacing > radius / 3:
         new_radius = 3.0 * spacing
         notes.append(f"radius widened from {radius:.4g} to {new_radius:.4g}: the point spacing "
                      f"along the curves ({spacing:.4g}) is more than a third of it")
         radius = new_radius
     rng = np.random.default_rng(seed)
-    tree = cKDTree(pts)
-    nodes = _neighbourhoods(pts, tree, radius)
+    atoms = _atoms(pts, radius)
+    nodes = _neighbourhoods(atoms, radius)
     keep = _thin(nodes.xy, radius / 2, rng)
     nodes = _Nodes(nodes.xy[keep], nodes.tangent[keep], nodes.ratio[keep], nodes.spread[keep])
     links = _link(nodes, radius)
@@ -122,7 +136,7 @@ def order_points(points: FloatArray, radius: float, *, seed: int = 0, min_points
     if len(merged):
         notes.append(f"{len(merged)} place(s) where two walls closer than 2 x radius "
                      "may have merged into one contour")
-    contours, outliers = _contours(pts, tree, nodes, chains, radius, min_points)
+    contours, outliers = _contours(pts, atoms.tree, nodes, chains, radius, min_points)
     return Ordering(contours, outliers, radius, merged, tuple(notes))
 
 
@@ -130,15 +144,14 @@ def order_points(points: FloatArray, radius: float, *, seed: int = 0, min_points
 # 1. neighbourhoods
 
 
-def _neighbourhoods(pts: FloatArray, tree: cKDTree, radius: float) -> _Nodes:
+def _neighbourhoods(atoms: _Atoms, radius: float) -> _Nodes:
     """Centroid and principal axes of the fixed-radius neighbourhood of each occupied cell."""
-    cell = np.floor(pts / (radius / 2)).astype(np.int64)
-    _, inverse, counts = np.unique(cell, axis=0, return_inverse=True, return_counts=True)
-    inverse = inverse.ravel()
-    seeds = np.column_stack([np.bincount(inverse, pts[:, k]) for k in range(2)]) / counts[:, None]
+    inverse, counts = _cells(atoms.cell // (ATOM_DIVISIONS // 2), atoms.weight)  # radius / 2
+    seeds = np.column_stack([np.bincount(inverse, atoms.weight * atoms.xy[:, k])
+                             for k in range(2)]) / counts[:, None]
     xy = seeds
     for _ in range(2):  # the second pass sees a neighbourhood centred on the curve
-        centroid, cov = _moments(xy, pts, tree, radius)
+        centroid, cov = _moments(xy, atoms, radius)
         tangent, ratio, spread = _principal_axes(cov)
         # project onto the regression line: move across the curve, never along it
         along = np.einsum("nd,nd->n", xy - centroid, tangent)
@@ -146,20 +159,73 @@ def _neighbourhoods(pts: FloatArray, tree: cKDTree, radius: float) -> _Nodes:
     return _Nodes(xy, tangent, ratio, spread)
 
 
-def _moments(centres: FloatArray, pts: FloatArray, tree: cKDTree, radius: float
+def _cells(cell: IntArray, weight: FloatArray | None = None) -> tuple[IntArray, FloatArray]:
+    """Index of each item's cell among the occupied ones, and the weight in each cell."""
+    cell = cell - cell.min(axis=0)
+    key = cell[:, 0] * (int(cell[:, 1].max()) + 1) + cell[:, 1]
+    _, inverse = np.unique(key, return_inverse=True)
+    inverse = inverse.ravel()
+    return inverse, np.bincount(inverse, weight).astype(float)
+
+
+@dataclass
+class _Atoms:
+    """Weighted points for the neighbourhood moments: position, weight, scatter (xx, xy, yy),
+    and the cell of radius / `ATOM_DIVISIONS` that each lies in."""
+
+    xy: FloatArray
+    weight: FloatArray
+    scatter: FloatArray
+    cell: IntArray
+
+    @cached_property
+    def tree(self) -> cKDTree:
+        return cKDTree(self.xy)
+
+
+#: Cells of radius / ATOM_DIVISIONS summarize dense points (`_atoms`).
+ATOM_DIVISIONS = 8
+
+
+def _atoms(pts: FloatArray, radius: float) -> _Atoms:
+    """The points themselves, or where they are dense, one atom per cell of radius / 8.
+
+    An atom is the centroid of its cell's points, weighted by their number and carrying their
+    scatter, so a neighbourhood's moments are the same sums over far fewer terms; only the
+    membership at the rim of the disc is decided per cell instead of per point.
+    """
+    cell = np.floor(pts / (radius / ATOM_DIVISIONS)).astype(np.int64)
+    inverse, counts = _cells(cell)
+    if len(counts) > len(pts) / 4:  # fewer than 4 points per cell: no gain
+        return _Atoms(pts, np.ones(len(pts)), np.zeros((len(pts), 3)), cell)
+    centre = np.column_stack([np.bincount(inverse, pts[:, k]) for k in range(2)]) / counts[:, None]
+    d = pts - centre[inverse]
+    scatter = np.column_stack([np.bincount(inverse, d[:, 0] * d[:, 0]),
+                               np.bincount(inverse, d[:, 0] * d[:, 1]),
+                               np.bincount(inverse, d[:, 1] * d[:, 1])])
+    first = np.zeros(len(counts), dtype=np.intp)
+    first[inverse[::-1]] = np.arange(len(pts))[::-1]  # any point of each cell names its cell
+    return _Atoms(centre, counts, scatter, cell[first])
+
+
+def _moments(centres: FloatArray, atoms: _Atoms, radius: float
              ) -> tuple[FloatArray, FloatArray]:
     """Centroid and covariance (xx, xy, yy) of the points within ``radius`` of each centre."""
-    pairs = cKDTree(centres).sparse_distance_matrix(tree, radius, output_type="ndarray")
+    pairs = cKDTree(centres).sparse_distance_matrix(atoms.tree, radius, output_type="ndarray")
     owner, idx = pairs["i"], pairs["j"]
     k = len(centres)
-    count = np.bincount(owner, minlength=k).astype(float)
+    w = atoms.weight[idx]
+    count = np.bincount(owner, w, minlength=k)
     empty = count == 0
     count[empty] = 1.0
-    local = pts[idx] - centres[owner]  # moments about the centre: no cancellation
-    mean = np.column_stack([np.bincount(owner, local[:, d], k) for d in range(2)]) / count[:, None]
-    sxx = np.bincount(owner, local[:, 0] ** 2, k) / count - mean[:, 0] ** 2
-    sxy = np.bincount(owner, local[:, 0] * local[:, 1], k) / count - mean[:, 0] * mean[:, 1]
-    syy = np.bincount(owner, local[:, 1] ** 2, k) / count - mean[:, 1] ** 2
+    local = atoms.xy[idx] - centres[owner]  # moments about the centre: no cancellation
+    mean = np.column_stack([np.bincount(owner, w * local[:, d], k) for d in range(2)])
+    mean /= count[:, None]
+    scatter = atoms.scatter[idx]
+    sxx = np.bincount(owner, w * local[:, 0] ** 2 + scatter[:, 0], k) / count - mean[:, 0] ** 2
+    sxy = (np.bincount(owner, w * local[:, 0] * local[:, 1] + scatter[:, 1], k) / count
+           - mean[:, 0] * mean[:, 1])
+    syy = np.bincount(owner, w * local[:, 1] ** 2 + scatter[:, 2], k) / count - mean[:, 1] ** 2
     centroid = centres + mean
     centroid[empty] = centres[empty]
     return centroid, np.column_stack([sxx, sxy, syy])
@@ -232,8 +298,7 @@ def _link(nodes: _Nodes, radius: float) -> IntArray:
     key_fwd = cand[:, 0] * n + cand[:, 1]
     key_rev = cand[:, 1] * n + cand[:, 0]
     mutual = np.isin(key_fwd, key_rev) & (cand[:, 0] < cand[:, 1])
-    links = cand[mutual]
-    return _join_ends(nodes, links, radius)
+    return _join_ends(nodes, cand[mutual], radius)
 
 
 def _first(mask: np.ndarray) -> IntArray:
@@ -276,6 +341,11 @@ def _join_ends(nodes: _Nodes, links: IntArray, radius: float) -> IntArray:
             # straight run has its ends close together too, but both face away (at a sharp
             # notch one end may overshoot the other, so one end facing is enough)
             ok &= ~same | ((size[comp[free]] >= 4) & ((ahead > 0) | (ahead_other > 0)))
+            # a march never turns back: a lone node joins a chain's end only ahead of it (lone
+            # nodes between two walls of a sharp notch would otherwise hook the end round)
+            lone, lone_other = degree[free] == 0, degree[free[cand]] == 0
+            ok &= ~(lone & ~lone_other & (ahead_other <= 0))
+            ok &= ~(lone_other & ~lone & (ahead <= 0))
             facing = (ahead > 0.7 * dist[:, col]) & (ahead_other > 0.7 * dist[:, col])
             ok &= (dist[:, col] <= 4.0 * radius) | facing
             best[ok] = cand[ok]
@@ -430,43 +500,55 @@ def _contours(pts: FloatArray, tree: cKDTree, nodes: _Nodes,
     bounds = np.searchsorted(chain_of_point[order], np.arange(len(chains) + 1))
     contours: list[OrderedContour] = []
     outliers = [np.flatnonzero(chain_of_point < 0)]
+    first_node = np.concatenate([[0], np.cumsum([len(seq) for seq, _ in chains])])
     for c, (seq, closed) in enumerate(chains):
         members = order[bounds[c]:bounds[c + 1]]
         xy = _sharpen_corners(nodes.xy[seq], closed, tree, radius)
         if not closed:
             xy = _extend_ends(xy, pts[members], radius)
-        xy = _cover_cut_corners(xy, pts[members], closed, radius)
-        far = _distance_to_polyline(pts[members], xy, closed) > radius
-        outliers.append(members[far])
-        contours.append(OrderedContour(xy, closed, np.sort(members[~far])))
+        # a member within 0.6 x radius of a node that is still a vertex needs no measuring
+        kept = _still_vertices(nodes.xy[seq], xy)[nearest[members] - first_node[c]]
+        unsure = np.flatnonzero(~(kept & (dist[members] <= _CORNER_GAP * radius)))
+        xy, far = _cover_cut_corners(xy, pts[members[unsure]], closed, radius)
+        inside = np.ones(len(members), dtype=bool)
+        inside[unsure[far]] = False
+        outliers.append(members[~inside])
+        contours.append(OrderedContour(xy, closed, members[inside]))  # sorted: stable argsort
     return contours, np.sort(np.concatenate(outliers)).astype(np.intp)
 
 
+def _still_vertices(chain: FloatArray, xy: FloatArray) -> np.ndarray:
+    """Which points of ``chain`` are (exactly) vertices of ``xy``."""
+    return np.isin(chain[:, 0] + 1j * chain[:, 1], xy[:, 0] + 1j * xy[:, 1])
+
+
+#: Members farther than this (in radii) from the chain mark a corner it cut.
+_CORNER_GAP = 0.6
+
+
 def _cover_cut_corners(xy: FloatArray, members: FloatArray, closed: bool, radius: float,
-                       rounds: int = 4) -> FloatArray:
+                       rounds: int = 4) -> tuple[FloatArray, IntArray]:
     """Insert member points where a group of them lies off the chain (a corner it cut).
 
     Where at least 3 points tied to one chain segment are farther than 0.6 x radius from the
     chain, the farthest of them is inserted into that segment; a few rounds of this put a point
     on a corner that neighbourhood averaging rounded off. Lone noisy points never qualify.
+    Returns the new chain and the members still farther than ``radius`` from it.
     """
-    for _ in range(rounds):
-        line = shapely.linearrings(xy) if closed and len(xy) >= 3 else shapely.linestrings(xy)
-        probe = shapely.points(members)
-        dist = shapely.distance(probe, line)
-        far = np.flatnonzero(dist > 0.6 * radius)
-        if len(far) < 3:
-            break
-        seg, _ = nearest_segment(members[far], xy, closed)
-        counts = np.bincount(seg, minlength=len(xy))
-        worst = np.full(len(xy), -1)
-        order = np.argsort(dist[far])
-        worst[seg[order]] = far[order]  # the last write per segment is its farthest point
-        segs = np.flatnonzero((counts >= 3) & (worst >= 0))
+    for round_ in range(rounds + 1):
+        far, seg, dist = farther_than(members, xy, closed and len(xy) >= 3,
+                                      _CORNER_GAP * radius)
+        segs = np.empty(0, dtype=np.intp)
+        if len(far) >= 3 and round_ < rounds:
+            counts = np.bincount(seg, minlength=len(xy))
+            worst = np.full(len(xy), -1)
+            order = np.argsort(dist)
+            worst[seg[order]] = far[order]  # the last write per segment is its farthest point
+            segs = np.flatnonzero((counts >= 3) & (worst >= 0))
         if not len(segs):
-            break
+            return xy, far[dist > radius]
         xy = np.insert(xy, segs + 1, members[worst[segs]], axis=0)
-    return xy
+    raise AssertionError("unreachable")  # pragma: no cover
 
 
 def _extend_ends(xy: FloatArray, members: FloatArray, radius: float) -> FloatArray:
@@ -484,11 +566,6 @@ def _extend_ends(xy: FloatArray, members: FloatArray, radius: float) -> FloatArr
         if ahead.any():
             out[end] = out[end] + direction * reach[ahead].max()
     return out
-
-
-def _distance_to_polyline(points: FloatArray, xy: FloatArray, closed: bool) -> FloatArray:
-    line = shapely.linearrings(xy) if closed and len(xy) >= 3 else shapely.linestrings(xy)
-    return shapely.distance(shapely.points(points), line)
 
 
 def ordering_summary(ordering: Ordering, n_points: int) -> str:

@@ -1,0 +1,57 @@
+"""Point-to-polyline distances: the KD-tree shortcut must agree exactly with shapely."""
+
+from __future__ import annotations
+
+import numpy as np
+import shapely
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from wavepoly.geometry import farther_than, nearest_segment, segment_distance
+
+
+@st.composite
+def polyline_and_points(draw):
+    """Uneven polylines: random steps, some of them long jumps (gaps, cut corners)."""
+    seed = draw(st.integers(0, 2**31 - 1))
+    rng = np.random.default_rng(seed)
+    n = draw(st.integers(2, 300))
+    steps = rng.normal(size=(n, 2)) * rng.choice([0.1, 1.0, 8.0], size=(n, 1), p=[.5, .45, .05])
+    vertices = np.cumsum(steps, axis=0)
+    spread = draw(st.sampled_from([0.05, 0.5, 5.0]))
+    anchors = vertices[rng.integers(0, n, 400)]
+    points = anchors + rng.normal(size=anchors.shape) * spread
+    return vertices, points, draw(st.booleans()) and n >= 3
+
+
+@settings(max_examples=60, deadline=None)
+@given(polyline_and_points())
+def test_nearest_segment_agrees_with_shapely(data):
+    vertices, points, closed = data
+    seg, dist = nearest_segment(points, vertices, closed)
+    geom = shapely.linearrings(vertices) if closed else shapely.linestrings(vertices)
+    truth = shapely.distance(shapely.points(points), geom)
+    np.testing.assert_allclose(dist, truth, rtol=0, atol=1e-9)
+    a = vertices[seg]
+    b = vertices[(seg + 1) % len(vertices)]
+    np.testing.assert_allclose(segment_distance(points, a, b), dist, rtol=0, atol=1e-12)
+
+
+@settings(max_examples=40, deadline=None)
+@given(polyline_and_points(), st.floats(0.01, 3.0))
+def test_farther_than_finds_exactly_the_far_points(data, limit):
+    vertices, points, closed = data
+    far, seg, dist = farther_than(points, vertices, closed, limit)
+    truth = nearest_segment(points, vertices, closed)[1]
+    np.testing.assert_array_equal(far, np.flatnonzero(truth > limit))
+    np.testing.assert_allclose(dist, truth[far], rtol=0, atol=1e-12)
+
+
+def test_single_segment_and_single_vertex():
+    line = np.array([[0.0, 0.0], [2.0, 0.0]])
+    seg, dist = nearest_segment(np.array([[1.0, 1.0], [3.0, 0.0]]), line, False)
+    np.testing.assert_array_equal(seg, [0, 0])
+    np.testing.assert_allclose(dist, [1.0, 1.0])
+    far, _, dist = farther_than(np.array([[0.0, 2.0], [0.1, 0.0]]), line[:1], False, 1.0)
+    np.testing.assert_array_equal(far, [0])
+    np.testing.assert_allclose(dist, [2.0])
