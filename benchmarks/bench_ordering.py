@@ -13,7 +13,7 @@ from .common import SHARED, best_time, table
 def run() -> str:
     rows = []
     rings = glyph_outlines("B8&%").rings
-    for spacing in (0.02, 0.01, 0.005, 0.0025):
+    for spacing in (0.02, 0.005, 0.002, 0.0005):
         pts = sample_rings(rings, spacing=spacing, noise=spacing, seed=0)
         t, res = best_time(lambda pts=pts: order_points(pts, 0.08), repeat=2)
         rows.append([f"glyphs B8&% spacing {spacing}", len(pts), len(res.contours),

@@ -196,7 +196,7 @@ def _atoms(pts: FloatArray, radius: float) -> _Atoms:
     """
     cell = np.floor(pts / (radius / ATOM_DIVISIONS)).astype(np.int64)
     inverse, counts = _cells(cell)
-    if len(counts) > len(pts) / 4:  # fewer than 4 points per cell: no gain
+    if len(counts) > len(pts) / 2:  # fewer than 2 points per cell: little gain
         return _Atoms(pts, np.ones(len(pts)), np.zeros((len(pts), 3)), cell)
     centre = np.column_stack([np.bincount(inverse, pts[:, k]) for k in range(2)]) / counts[:, None]
     d = pts - centre[inverse]
