@@ -60,6 +60,8 @@ def nearest_segment(points: FloatArray, vertices: FloatArray, closed: bool, *,
     points = np.asarray(points, dtype=np.float64)
     if len(points) == 0 or len(a) == 0:
         return np.zeros(len(points), dtype=np.intp), np.full(len(points), np.inf)
+    if len(a) <= _FEW_SEGMENTS:
+        return _nearest_segment_brute(points, a, b)
     k = min(k, len(vertices))
     vdist, vidx = cKDTree(vertices).query(points, k=k)
     vdist, vidx = vdist.reshape(len(points), k), vidx.reshape(len(points), k)
@@ -72,9 +74,8 @@ def nearest_segment(points: FloatArray, vertices: FloatArray, closed: bool, *,
         length[long] = 0.0  # measured directly: out of the bound
     d = _segment_distance_xy(points[:, 0:1], points[:, 1:2], a[:, 0][cand], a[:, 1][cand],
                              b[:, 0][cand], b[:, 1][cand])
-    pick = np.argmin(d, axis=1)
-    rows = np.arange(len(points))
-    seg, dist = cand[rows, pick], d[rows, pick]
+    dist = d.min(axis=1)
+    seg = np.where(d <= dist[:, None], cand, len(a)).min(axis=1)  # ties: the first segment
     if k < len(vertices):
         bound = np.sqrt(np.maximum(vdist[:, -1] ** 2 - (0.5 * length.max()) ** 2, 0.0))
         unsure = np.flatnonzero(dist > bound)
@@ -85,6 +86,24 @@ def nearest_segment(points: FloatArray, vertices: FloatArray, closed: bool, *,
 
 #: Segments longer than 2 x the median that `nearest_segment` measures against every point.
 _LONG_SEGMENTS = 16
+
+
+#: Polylines with at most this many segments are measured against every segment directly.
+_FEW_SEGMENTS = 24
+
+
+def _nearest_segment_brute(points: FloatArray, a: FloatArray, b: FloatArray
+                           ) -> tuple[IntArray, FloatArray]:
+    seg = np.empty(len(points), dtype=np.intp)
+    dist = np.empty(len(points))
+    step = max(1, 2_000_000 // len(a))
+    for c0 in range(0, len(points), step):
+        p = points[c0:c0 + step]
+        d = _segment_distance_xy(p[:, 0:1], p[:, 1:2], a[None, :, 0], a[None, :, 1],
+                                 b[None, :, 0], b[None, :, 1])
+        seg[c0:c0 + step] = np.argmin(d, axis=1)
+        dist[c0:c0 + step] = d[np.arange(len(p)), seg[c0:c0 + step]]
+    return seg, dist
 
 
 def _nearest_segment_tree(points: FloatArray, a: FloatArray, b: FloatArray
@@ -143,6 +162,12 @@ def distance_to_contours(points: FloatArray, contours: list[Contour]) -> FloatAr
     """Distance of each point to the nearest of ``contours`` (their boundaries, not interiors)."""
     if not contours:
         return np.full(len(points), np.inf)
+    if len(contours) <= 16:  # a KD-tree pass per contour beats an STRtree of geometries
+        out = np.full(len(points), np.inf)
+        for c in contours:
+            closed = c.closed and len(c.vertices) >= 3
+            np.minimum(out, polyline_distance(points[:, :2], c.vertices, closed), out=out)
+        return out
     geoms = [contour_geometry(c) for c in contours]
     tree = shapely.STRtree(geoms)
     (pidx, _), dist = tree.query_nearest(shapely.points(points[:, :2]), return_distance=True,

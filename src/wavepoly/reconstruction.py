@@ -27,7 +27,7 @@ from scipy.ndimage import maximum_filter1d
 from scipy.spatial import cKDTree
 
 from . import wavelets
-from .geometry import segment_distance
+from .geometry import nearest_segment, segment_distance
 from .levels import Pyramid
 from .types import FloatArray, IntArray
 
@@ -84,8 +84,9 @@ def point_parameters(points: FloatArray, pyramid: Pyramid) -> FloatArray:
     u = wavelets.greville(pyramid.finest, pyramid.closed)
     if pyramid.closed:
         cp, u = np.vstack([cp, cp[:1]]), np.append(u, 1.0)
-    arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(cp, axis=0), axis=1))])
-    s = shapely.line_locate_point(shapely.linestrings(cp), shapely.points(points))
+    length = np.linalg.norm(np.diff(cp, axis=0), axis=1)
+    arc = np.concatenate([[0.0], np.cumsum(length)])
+    s = _locate(points, cp, arc)
     param = np.interp(s, arc, u)
     delta = 1e-9 * float(np.diff(u).min(initial=1.0))
     at = np.clip(np.searchsorted(arc, s), 0, len(arc) - 1)
@@ -115,6 +116,21 @@ def point_parameters(points: FloatArray, pyramid: Pyramid) -> FloatArray:
             # strictly beyond the end vertex, so that an inserted point has its own parameter
             param[out] = u[end] + (np.maximum(t, 0.0) + delta * (1 + gap)) * (u[end] - u[nxt])
     return param
+
+
+def _locate(points: FloatArray, line: FloatArray, arc: FloatArray) -> FloatArray:
+    """Arc length along the open polyline ``line`` of each point's nearest point on it.
+
+    Like shapely's ``line_locate_point``, but O((n + m) log m) (`nearest_segment`); a point
+    whose nearest point is a vertex gets exactly that vertex's ``arc`` value.
+    """
+    seg, _ = nearest_segment(points, line, False)
+    a, ab = line[seg], line[seg + 1] - line[seg]
+    denom = np.einsum("ij,ij->i", ab, ab)
+    t = np.einsum("ij,ij->i", points - a, ab) / np.where(denom > 0, denom, 1.0)
+    s = arc[seg] + np.clip(t, 0.0, 1.0) * (arc[seg + 1] - arc[seg])
+    s[t >= 1.0] = arc[seg[t >= 1.0] + 1]
+    return s
 
 
 def _untie(param: FloatArray, step: float) -> FloatArray:
@@ -447,7 +463,9 @@ def _allow_backbone(feasible: list[np.ndarray], backbone: IntArray, k: int, clos
     if closed:
         b = np.where(b <= a, b + k, b)
     for x, y in zip(a, b):
-        if 0 < y - x <= len(feasible[x]):
+        if 0 < y - x < len(feasible) - x:
+            if y - x > len(feasible[x]):  # beyond where the cone test stopped
+                feasible[x] = np.pad(feasible[x], (0, y - x - len(feasible[x])))
             feasible[x][y - x - 1] = True
 
 
@@ -475,78 +493,127 @@ def _feasible_chords(v: FloatArray, u: FloatArray, pts: FloatArray, prm: FloatAr
     Chan & Chin's cone test, swept over the points in parameter order: chord (a, b) keeps every
     point between them within ``limit`` exactly when b lies in the cone of directions from a
     that pass within ``limit`` of each of those points, and a in the same cone seen from b.
+    The arrays stop at the last b the forward cone reaches (every later chord is infeasible).
     """
     n = len(v)
-    if periodic:  # the unrolled second turn repeats the first: sweep each vertex once
-        k = n // 2
-        fwd = [_cone_reach(v, u, pts, prm, a, +1, limit, max_span) for a in range(k)] * 2
-        bwd = [_cone_reach(v, u, pts, prm, b, -1, limit, max_span) for b in range(k, n)] * 2
-    else:
-        fwd = [_cone_reach(v, u, pts, prm, a, +1, limit, max_span) for a in range(n)]
-        bwd = [_cone_reach(v, u, pts, prm, b, -1, limit, max_span) for b in range(n)]
-    out = []
-    for a in range(n):
-        ok = fwd[a][: n - 1 - a].copy()
-        for off in np.flatnonzero(ok):
-            back = bwd[a + off + 1]
-            ok[off] = off < len(back) and back[off]
-        out.append(ok)
+    k = n // 2 if periodic else n  # the unrolled second turn repeats the first: sweep once
+    fwd = _sweep_cones(v, u, pts, prm, np.arange(k), limit, max_span, "left")
+    # backwards = forwards on the mirrored contour; the own-edge rule u[a] <= p < u[b] becomes
+    # u'[b'] < p' <= u'[a'], hence the other searchsorted side
+    bwd = _sweep_cones(v[::-1], -u[::-1], pts[::-1], -prm[::-1], np.arange(k), limit,
+                       max_span, "right")[::-1]
+    if periodic:
+        fwd, bwd = fwd * 2, bwd * 2
+    fwd = [f[: n - 1 - a] for a, f in enumerate(fwd)]
+    width = max(1, max(len(f) for f in fwd + bwd))
+    ahead, behind = _padded(fwd, width), _padded(bwd, width)
+    a, off = np.nonzero(ahead)
+    b = a + off + 1  # chord (a, b) needs a in the backward cone of b, at the same offset
+    both = np.zeros_like(ahead)
+    both[a, off] = behind[b, off]
+    return [both[i, : len(f)] for i, f in enumerate(fwd)]
+
+
+def _padded(rows: list[np.ndarray], width: int) -> np.ndarray:
+    out = np.zeros((len(rows), width), dtype=bool)
+    lengths = np.array([len(r) for r in rows])
+    if lengths.sum():
+        out[np.arange(width) < lengths[:, None]] = np.concatenate(rows)
     return out
 
 
-def _cone_reach(v: FloatArray, u: FloatArray, pts: FloatArray, prm: FloatArray, a: int,
-                step: int, limit: float, max_span: int, chunk: int = 512) -> np.ndarray:
-    """ok[m]: vertex a + step*(m+1) lies in the cone from vertex a over the points between."""
+def _wrap(angle: FloatArray) -> FloatArray:
+    return (angle + np.pi) % (2 * np.pi) - np.pi
+
+
+def _sweep_cones(v: FloatArray, u: FloatArray, pts: FloatArray, prm: FloatArray,
+                 rows: IntArray, limit: float, max_span: int, side: str,
+                 window: int = 128) -> list[np.ndarray]:
+    """ok[a][m]: vertex a+m+1 lies in the cone from vertex a over the points between them.
+
+    All starting vertices sweep together, ``window`` points at a time: the cone from a is the
+    intersection, over the points with parameter in [u[a], u[b]) (``side="left"``), of the
+    directions that pass within ``limit`` of each point farther than ``limit``. A row stops at
+    the window where its cone closes; the targets after it are infeasible and left out.
+    """
     n = len(v)
-    last = a + step * max_span
-    last = min(n - 1, last) if step > 0 else max(0, last)
-    if last == a:
-        return np.zeros(0, dtype=bool)
-    targets = np.arange(a + step, last + step, step)
-    t_dir = v[targets] - v[a]
-    t_ang = np.arctan2(t_dir[:, 1], t_dir[:, 0])
-    lo_bound, hi_bound = -np.inf, np.inf
-    ref = None
-    # the points a chord (lo, hi) answers for are those with lo <= parameter < hi (the own-edge
-    # rule of `_edge_of`), in sweep order
-    if step > 0:
-        start, stop = np.searchsorted(prm, u[a], "left"), np.searchsorted(prm, u[last], "left")
-        order = np.arange(start, stop)
-    else:
-        start, stop = np.searchsorted(prm, u[last], "left"), np.searchsorted(prm, u[a], "left")
-        order = np.arange(stop - 1, start - 1, -1)
-    cone_lo = np.full(len(targets), -np.inf)
-    cone_hi = np.full(len(targets), np.inf)
-    t_prm = u[targets]
-    for c0 in range(0, len(order), chunk):
-        idx = order[c0:c0 + chunk]
-        d = pts[idx] - v[a]
-        r = np.hypot(d[:, 0], d[:, 1])
-        theta = np.arctan2(d[:, 1], d[:, 0])
-        far = r > limit
-        if ref is None and far.any():
-            ref = theta[np.argmax(far)]
-        if ref is None:
-            continue
-        rel = (theta - ref + np.pi) % (2 * np.pi) - np.pi
+    last = np.minimum(rows + max_span, n - 1)
+    at = np.searchsorted(prm, u, side)  # points before each vertex's parameter
+    start, stop = at[rows], at[last]
+    lo, hi = np.full(len(rows), -np.inf), np.full(len(rows), np.inf)
+    ref = np.full(len(rows), np.nan)
+    found_a, found_b, found_ok = [], [], []
+    # targets with no point between them and a: always feasible
+    first = np.clip(np.searchsorted(at, start, "right"), rows + 1, last + 1)
+    _record(found_a, found_b, found_ok, rows, rows + 1, first, None)
+    active = np.flatnonzero(last > rows)
+    j0 = 0
+    while len(active):
+        a, s = rows[active], start[active]
+        idx = s[:, None] + np.arange(j0, j0 + window)
+        valid = idx < stop[active][:, None]
+        d = pts[np.minimum(idx, len(pts) - 1)] - v[a][:, None, :]
+        r = np.hypot(d[..., 0], d[..., 1])
+        far = (r > limit) & valid
+        theta = np.arctan2(d[..., 1], d[..., 0])
+        new = np.isnan(ref[active]) & far.any(axis=1)
+        ref[active[new]] = theta[new, np.argmax(far[new], axis=1)]
+        base = np.nan_to_num(ref[active])
+        rel = _wrap(theta - base[:, None])
         half = np.arcsin(np.minimum(limit / np.where(far, r, 1.0), 1.0))
-        lo = np.maximum.accumulate(np.concatenate([[lo_bound], np.where(far, rel - half, -np.inf)]))
-        hi = np.minimum.accumulate(np.concatenate([[hi_bound], np.where(far, rel + half, np.inf)]))
-        # the cone a target sees is the one after the last point before it (in sweep order)
-        if step > 0:
-            cnt = np.searchsorted(prm[idx], t_prm, side="left")
-        else:  # idx runs backwards: count the points at or above each target
-            cnt = len(idx) - np.searchsorted(prm[idx[::-1]], t_prm, side="left")
-        touched = cnt > 0
-        cone_lo[touched] = lo[cnt[touched]]
-        cone_hi[touched] = hi[cnt[touched]]
-        lo_bound, hi_bound = lo[-1], hi[-1]
-        if lo_bound > hi_bound:
-            break
-    if ref is None:
-        return np.ones(len(targets), dtype=bool)
-    rel_t = (t_ang - ref + np.pi) % (2 * np.pi) - np.pi
-    return (rel_t >= cone_lo - 1e-12) & (rel_t <= cone_hi + 1e-12) & (cone_lo <= cone_hi)
+        lo_w = np.maximum(np.maximum.accumulate(np.where(far, rel - half, -np.inf), axis=1),
+                          lo[active][:, None])
+        hi_w = np.minimum(np.minimum.accumulate(np.where(far, rel + half, np.inf), axis=1),
+                          hi[active][:, None])
+        # targets whose count of points before them falls in this window
+        b_from = np.clip(np.searchsorted(at, s + j0, "right"), a + 1, last[active] + 1)
+        b_to = np.clip(np.searchsorted(at, s + j0 + window, "right"), a + 1, last[active] + 1)
+        row, b = _ranges(b_from, b_to)
+        col = at[b] - s[row] - j0 - 1
+        cone_lo, cone_hi = lo_w[row, col], hi_w[row, col]
+        t_dir = v[b] - v[a[row]]
+        rel_t = _wrap(np.arctan2(t_dir[:, 1], t_dir[:, 0]) - base[row])
+        ok = ((rel_t >= cone_lo - 1e-12) & (rel_t <= cone_hi + 1e-12) & (cone_lo <= cone_hi))
+        _record(found_a, found_b, found_ok, a[row], b, None, ok)
+        lo[active], hi[active] = lo_w[:, -1], hi_w[:, -1]
+        done = (lo_w[:, -1] > hi_w[:, -1]) | (s + j0 + window >= stop[active])
+        active = active[~done]
+        j0 += window
+    return _rows_of(rows, np.concatenate(found_a), np.concatenate(found_b),
+                    np.concatenate(found_ok))
+
+
+def _ranges(begin: IntArray, end: IntArray) -> tuple[IntArray, IntArray]:
+    """(row, value) for every value in [begin[row], end[row])."""
+    counts = np.maximum(end - begin, 0)
+    row = np.repeat(np.arange(len(begin)), counts)
+    offset = np.arange(len(row)) - np.repeat(np.cumsum(counts) - counts, counts)
+    return row, begin[row] + offset
+
+
+def _record(found_a, found_b, found_ok, a, b_or_begin, end, ok) -> None:
+    if end is not None:  # a range of targets, all feasible
+        row, b = _ranges(b_or_begin, end)
+        a, ok = a[row], np.ones(len(row), dtype=bool)
+    else:
+        b = b_or_begin
+    found_a.append(a)
+    found_b.append(b)
+    found_ok.append(ok)
+
+
+def _rows_of(rows: IntArray, a: IntArray, b: IntArray, ok: np.ndarray) -> list[np.ndarray]:
+    """Per starting vertex, the boolean array over its targets a+1 .. (up to the last found)."""
+    length = np.zeros(int(rows.max(initial=-1)) + 1, dtype=np.intp)
+    np.maximum.at(length, a, b - a)
+    out = [np.zeros(length[r], dtype=bool) for r in rows]
+    order = np.argsort(a, kind="stable")
+    a, b, ok = a[order], b[order], ok[order]
+    bounds = np.searchsorted(a, np.append(rows, rows[-1] + 1) if len(rows) else [0])
+    for i, r in enumerate(rows):
+        sel = slice(bounds[i], bounds[i + 1])
+        out[i][b[sel] - r - 1] = ok[sel]
+    return out
 
 
 def _shortest(feasible: list[np.ndarray], start: int, end: int, min_edges: int = 1) -> IntArray:

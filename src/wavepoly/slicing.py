@@ -166,6 +166,8 @@ def slice_cloud(points3d: FloatArray, tolerance: float, *, axis: str | FloatArra
         thick = np.array([p[1] for p in plan])
         fits = [p[2] for p in plan]
         bands = [_band(height, b + t / 2, min(band, t)) for b, t in zip(bottoms, thick)]
+        errors = [_model_error(uv[slice(*np.searchsorted(height, [b, b + t]))], res)
+                  for b, t, res in zip(bottoms, thick, fits)]
         planning, fitting = time.perf_counter() - t0, 0.0
     else:
         if layer_thickness is None:
@@ -176,16 +178,16 @@ def slice_cloud(points3d: FloatArray, tolerance: float, *, axis: str | FloatArra
         planning = time.perf_counter() - t0
         bands = [_band(height, b + t / 2, t if band is None else min(band, t)) for b, t in
                  zip(bottoms, thick)]
-        jobs = [(uv[i0:i1], tolerance, relative_tolerance, float(b + t / 2))
-                for (i0, i1), b, t in zip(bands, bottoms, thick)]
+        slabs = [np.searchsorted(height, [b, b + t]) for b, t in zip(bottoms, thick)]
+        jobs = [(uv[s0:s1], (i0 - s0, i1 - s0), tolerance, relative_tolerance, float(b + t / 2))
+                for (i0, i1), (s0, s1), b, t in zip(bands, slabs, bottoms, thick)]
         t0 = time.perf_counter()
-        fits = _run(jobs, workers, progress)
+        fits, errors = zip(*_run(jobs, workers, progress))
         fitting = time.perf_counter() - t0
     t0 = time.perf_counter()
     layers = []
-    for (i0, i1), b, t, res in zip(bands, bottoms, thick, fits):
+    for (i0, i1), b, t, res, err in zip(bands, bottoms, thick, fits, errors):
         s0, s1 = np.searchsorted(height, [b, b + t])
-        err = _model_error(uv[s0:s1], res)
         layers.append(Layer(float(b), float(t), (float(height[i0]) if i1 > i0 else b,
                                                  float(height[i1 - 1]) if i1 > i0 else b),
                             res, int(s1 - s0), err))
@@ -275,11 +277,15 @@ def fit_layer(points: FloatArray, tolerance: float, relative_tolerance: float | 
                      res.n_points, res.parents, res.reports, res.timings, res.notes, z)
 
 
-def _fit_job(job: tuple) -> FitResult:
-    return fit_layer(*job)
+def _fit_job(job: tuple) -> tuple[FitResult, float]:
+    """Fit a layer's band (``slab[band]``) and measure its slab against the fit."""
+    slab, (b0, b1), tolerance, relative_tolerance, z = job
+    res = fit_layer(slab[b0:b1], tolerance, relative_tolerance, z)
+    return res, _model_error(slab, res)
 
 
-def _run(jobs: list[tuple], workers: int | None, progress) -> list[FitResult]:
+def _run(jobs: list[tuple], workers: int | None, progress
+         ) -> list[tuple[FitResult, float]]:
     workers = os.cpu_count() or 1 if workers is None else int(workers)
     if workers < 1:
         raise ParameterError(f"workers must be 1 or more, not {workers}")
