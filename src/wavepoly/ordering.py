@@ -7,7 +7,8 @@ Python loop runs over points:
 
 1. *Neighbourhoods*: the plane is cut into cells of radius/2; every occupied cell seeds a
    neighbourhood of the fixed ``radius``, summarized by its centroid and the least-squares
-   regression line through it (the tangent: the principal axis of the neighbourhood).
+   regression line through it (the tangent: the principal axis of the neighbourhood). Dense
+   clouds enter these sums as one weighted atom per cell of radius/8 (`_atoms`).
 2. *Thinning*: a random (seeded) maximal set of centroids at least radius/2 apart is kept
    (Luby's parallel rounds), so consecutive ordered points are radius/2 .. radius apart, as
    one marching step would place them.
