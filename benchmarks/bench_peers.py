@@ -19,19 +19,27 @@ from .common import SHARED, table
 EPS = 0.08
 
 
-def _tuned(simplify, ordered: np.ndarray, closed: bool, members: np.ndarray, eps: float,
-           lo: float, hi: float) -> np.ndarray:
-    """The simplification with the largest parameter in [lo, hi] (bisection, log scale) that
-    keeps every member point within ``eps``; the finest one if none does."""
-    best = simplify(ordered, lo)
-    for _ in range(24):
+def _largest_within(simplify, error, eps: float, lo: float, hi: float, steps: int = 24):
+    """``simplify(p)`` for the largest p in [lo, hi] (bisection, log scale) whose ``error`` is
+    within ``eps``; ``simplify(lo)`` if none is."""
+    best = simplify(lo)
+    for _ in range(steps):
         mid = np.sqrt(lo * hi)
-        out = simplify(ordered, mid)
-        if len(out) >= (3 if closed else 2) and _error(members, out, closed) <= eps:
+        out = simplify(mid)
+        if error(out) <= eps:
             best, lo = out, mid
         else:
             hi = mid
     return best
+
+
+def _tuned(simplify, ordered: np.ndarray, closed: bool, members: np.ndarray, eps: float,
+           lo: float, hi: float) -> np.ndarray:
+    """The simplification of one contour, tuned to keep every member point within ``eps``."""
+    def error(out):
+        return _error(members, out, closed) if len(out) >= (3 if closed else 2) else np.inf
+
+    return _largest_within(lambda p: simplify(ordered, p), error, eps, lo, hi)
 
 
 def _error(points: np.ndarray, polyline: np.ndarray, closed: bool) -> float:
@@ -78,15 +86,7 @@ def _concave_hull(pts: np.ndarray, eps: float) -> tuple[int, float, list, str]:
             np.minimum(dist, polyline_distance(pts, ring, True), out=dist)
         return float(dist.max())
 
-    lo, hi = 1e-6 * eps, eps
-    best = simplify(lo)
-    for _ in range(16):
-        mid = np.sqrt(lo * hi)
-        out = simplify(mid)
-        if error(out) <= eps:
-            best, lo = out, mid
-        else:
-            hi = mid
+    best = _largest_within(simplify, error, eps, 1e-6 * eps, eps, steps=16)
     return sum(len(r) for r in best), error(best), [(r, True) for r in best], \
         f"{len(rings)} ring(s)"
 

@@ -15,13 +15,9 @@ def segment_distance(points: FloatArray, a: FloatArray, b: FloatArray) -> FloatA
     >>> segment_distance(np.array([[0.5, 1.0]]), np.array([0.0, 0.0]), np.array([1.0, 0.0]))
     array([1.])
     """
-    ab = b - a
-    ap = points - a
-    denom = np.einsum("...i,...i->...", ab, ab)
-    t = np.einsum("...i,...i->...", ap, ab) / np.where(denom > 0, denom, 1.0)
-    t = np.clip(t, 0.0, 1.0)
-    diff = ap - t[..., None] * ab
-    return np.sqrt(np.einsum("...i,...i->...", diff, diff))
+    points, a, b = (np.asarray(x, dtype=np.float64) for x in (points, a, b))
+    return _segment_distance_xy(points[..., 0], points[..., 1], a[..., 0], a[..., 1],
+                                b[..., 0], b[..., 1])
 
 
 def _segment_distance_xy(px, py, ax, ay, bx, by):
