@@ -6,8 +6,9 @@ import numpy as np
 import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from scipy.spatial import ConvexHull
 
-from wavepoly.geometry import farther_than, nearest_segment, segment_distance
+from wavepoly.geometry import farther_than, hull_candidates, nearest_segment, segment_distance
 
 
 @st.composite
@@ -55,3 +56,21 @@ def test_single_segment_and_single_vertex():
     far, _, dist = farther_than(np.array([[0.0, 2.0], [0.1, 0.0]]), line[:1], False, 1.0)
     np.testing.assert_array_equal(far, [0])
     np.testing.assert_allclose(dist, [2.0])
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2**31 - 1), st.sampled_from([8, 16]), st.sampled_from([1e-3, 1.0, 1e4]))
+def test_hull_candidates_keep_every_hull_vertex(seed, directions, scale):
+    """Thinning a block to its hull candidates keeps each block's convex hull (and, on a noisy
+    strip, drops most points)."""
+    rng = np.random.default_rng(seed)
+    n = 3000
+    t = np.sort(rng.uniform(0, 50, n))
+    points = np.column_stack([t, np.sin(t) + rng.normal(0, 0.1, n)]) * scale + 7 * scale
+    starts = np.unique(np.concatenate([[0], rng.integers(0, n, 40)]))
+    keep = hull_candidates(points, starts, directions)
+    for b0, b1 in zip(starts, np.append(starts[1:], n)):
+        block = points[b0:b1]
+        if len(block) >= 3 and np.ptp(block, axis=0).min() > 0:
+            assert keep[b0 + ConvexHull(block).vertices].all()
+    assert keep.mean() < 0.5

@@ -95,13 +95,15 @@ def wiggly_polyline(draw):
     else:
         vertices = np.column_stack([np.arange(k), rng.uniform(-0.5, 0.5, k)])
         vparams = np.linspace(0.0, 1.0, k)
-    # data points along the polyline's own edges, a little off them
-    e = rng.integers(0, k if closed else k - 1, 60)
-    f = rng.uniform(0, 1, 60)
+    # data points along the polyline's own edges, a little off them; dense enough, sometimes,
+    # that the cone test sees only the hull candidates of each gap (`hull_candidates`)
+    m = draw(st.sampled_from([60, 3000]))
+    e = rng.integers(0, k if closed else k - 1, m)
+    f = rng.uniform(0, 1, m)
     a, b = vertices[e], vertices[(e + 1) % k]
     nxt = np.where((e + 1) % k == 0, 1.0, vparams[(e + 1) % k]) if closed else vparams[e + 1]
     params = vparams[e] + f * (nxt - vparams[e])
-    points = a + f[:, None] * (b - a) + rng.normal(0, 0.02, (60, 2))
+    points = a + f[:, None] * (b - a) + rng.normal(0, 0.02, (m, 2))
     tol = draw(st.floats(0.05, 0.6))
     tol = max(tol, own_edge_distance(vertices, vparams, points, params, closed).max())
     return vertices, vparams, points, np.mod(params, 1.0) if closed else params, closed, tol
@@ -127,6 +129,15 @@ def test_select_checks_points_at_a_vertex_parameter(closed):
     params = np.array([0.1, 0.4])
     chosen, chosen_u = select_vertices(vertices, vparams, points, params, closed, 0.1)
     assert own_edge_distance(chosen, chosen_u, points, params, closed).max() <= 0.1
+    assert 0.6 in chosen_u
+    # the same among many points on the flat edges (their gaps are thinned to hull candidates)
+    rng = np.random.default_rng(0)
+    f = rng.uniform(0, 1, 4000)
+    flat = np.column_stack([2 * f, rng.uniform(-0.05, 0.05, 4000)])
+    many = np.vstack([points, flat])
+    many_u = np.concatenate([params, 0.4 * f])
+    chosen, chosen_u = select_vertices(vertices, vparams, many, many_u, closed, 0.1)
+    assert own_edge_distance(chosen, chosen_u, many, many_u, closed).max() <= 0.1
     assert 0.6 in chosen_u
 
 

@@ -139,6 +139,65 @@ def farther_than(points: FloatArray, vertices: FloatArray, closed: bool, limit: 
     return maybe[far], seg[far], dist[far]
 
 
+def hull_candidates(points: FloatArray, starts: IntArray, directions: int = 16,
+                    chunk: int = 1 << 17) -> np.ndarray:
+    """Mask of the points that may be convex-hull vertices of their block.
+
+    The blocks are the runs of consecutive points beginning at ``starts`` (increasing, the
+    first 0). A point strictly inside the polygon of its block's extreme points in
+    ``directions`` directions is no hull vertex (Akl & Toussaint's filter); every other point is
+    kept, so each block's kept points have the block's convex hull. The largest value of any
+    convex function over a block, such as the distance to a line, a ray or a segment, is
+    therefore the largest over its kept points: thinning a dense scan this way changes no
+    tolerance test.
+
+    >>> inner = np.random.default_rng(0).uniform(0.1, 0.9, (8, 2))
+    >>> square = np.vstack([[[0, 0], [1, 0], [1, 1], [0, 1]], inner])
+    >>> np.flatnonzero(hull_candidates(square, np.array([0]), directions=8))
+    array([0, 1, 2, 3])
+    """
+    points = np.asarray(points, dtype=np.float64)
+    n = len(points)
+    keep = np.ones(n, dtype=bool)
+    starts = np.asarray(starts, dtype=np.intp)
+    ends = np.append(starts[1:], n)
+    angle = np.arange(directions) * (2 * np.pi / directions)
+    dirs = np.stack([np.cos(angle), np.sin(angle)])
+    big = np.flatnonzero(ends - starts > directions)  # smaller blocks are kept whole
+    i = 0
+    while i < len(big):  # whole blocks, about ``chunk`` points at a time (bounded memory)
+        j = i + max(1, int(np.searchsorted(starts[big[i:]], starts[big[i]] + chunk)))
+        _thin_blocks(points, starts[big[i:j]], ends[big[i:j]], dirs, keep)
+        i = j
+    return keep
+
+
+def _thin_blocks(points: FloatArray, starts: IntArray, ends: IntArray, dirs: FloatArray,
+                 keep: np.ndarray) -> None:
+    """`hull_candidates` on some blocks: clear ``keep`` of the points inside their polygons."""
+    counts = ends - starts
+    first = np.cumsum(counts) - counts
+    index = np.repeat(starts - first, counts) + np.arange(counts.sum())
+    p = points[index]
+    proj = p @ dirs
+    top = np.repeat(np.maximum.reduceat(proj, first, axis=0), counts, axis=0)
+    at = np.where(proj == top, np.arange(len(p))[:, None], len(p))
+    extreme = np.minimum.reduceat(at, first, axis=0)  # (blocks, directions), CCW order
+    corner = p[extreme]
+    edge = np.roll(corner, -1, axis=1) - corner
+    # the polygon's edge lines: p is strictly left of edge k when ex*y - ey*x > c
+    ex, ey = edge[..., 0], edge[..., 1]
+    c = ex * corner[..., 1] - ey * corner[..., 0]
+    length2 = ex * ex + ey * ey
+    c = np.where(length2 > 0, c + 1e-12 * (length2 + np.abs(c)), -np.inf)  # margin; skip
+    inside = np.ones(len(p), dtype=bool)  # degenerate edges
+    for k in range(dirs.shape[1]):
+        lhs = (p[:, 1] * np.repeat(ex[:, k], counts) - p[:, 0] * np.repeat(ey[:, k], counts))
+        inside &= lhs > np.repeat(c[:, k], counts)
+    inside[extreme.ravel()] = False
+    keep[index[inside]] = False
+
+
 def polyline_distance(points: FloatArray, vertices: FloatArray, closed: bool) -> FloatArray:
     """Distance of each point to a polyline (closed: including the last-to-first segment)."""
     if len(vertices) == 1:

@@ -27,7 +27,7 @@ from scipy.ndimage import maximum_filter1d
 from scipy.spatial import cKDTree
 
 from . import wavelets
-from .geometry import nearest_segment, segment_distance
+from .geometry import hull_candidates, nearest_segment, segment_distance
 from .levels import Pyramid
 from .types import FloatArray, IntArray
 
@@ -427,6 +427,7 @@ def select_vertices(vertices: FloatArray, vparams: FloatArray, points: FloatArra
     order = np.argsort(np.mod(params, 1.0) if closed else params, kind="stable")
     pts, prm = points[order], (np.mod(params, 1.0) if closed else params)[order]
     u = np.mod(vparams, 1.0) if closed else vparams.copy()
+    pts, prm = _hull_of_each_gap(pts, prm, u)
     if closed:  # unroll: vertices and points twice round, parameters + 1 the second time
         vertices2, u = np.vstack([vertices, vertices]), np.concatenate([u, u + 1.0])
         pts, prm = np.vstack([pts, pts]), np.concatenate([prm, prm + 1.0])
@@ -451,6 +452,19 @@ def select_vertices(vertices: FloatArray, vparams: FloatArray, points: FloatArra
         raise RuntimeError("internal error: no feasible polygon")
     keep = np.sort(best[:-1] % k)
     return vertices[keep], vparams[keep]
+
+
+def _hull_of_each_gap(pts: FloatArray, prm: FloatArray, u: FloatArray
+                      ) -> tuple[FloatArray, FloatArray]:
+    """The points (sorted by parameter ``prm``) that may be hull vertices of the points between
+    two consecutive vertex parameters ``u``: the cone test's distances are convex functions of
+    the point, so a chord keeps every point within the tolerance exactly when it keeps these.
+    Points at a vertex's own parameter form a gap of their own (both sweep directions see the
+    same gaps)."""
+    cuts = np.concatenate([[0], np.searchsorted(prm, u, "left"), np.searchsorted(prm, u, "right")])
+    starts = np.unique(cuts[cuts < len(prm)])
+    keep = hull_candidates(pts, starts)
+    return pts[keep], prm[keep]
 
 
 def _allow_backbone(feasible: list[np.ndarray], backbone: IntArray, k: int, closed: bool
