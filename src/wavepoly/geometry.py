@@ -44,9 +44,9 @@ def nearest_segment(points: FloatArray, vertices: FloatArray, closed: bool, *,
     O((n + m) log m) for n points and m segments: each point tries the segments beside its ``k``
     nearest vertices (a KD-tree query). That is provably enough when the best of them is nearer
     than ``sqrt(D_k**2 - (L/2)**2)``, D_k the k-th vertex distance and L the longest segment,
-    because a segment whose ends are both at least D_k away is at least that far. A few long
-    segments (over 2 x the median: gaps, corners cut straight) are measured against every point
-    instead, so they do not spoil the bound; points still without a proof go to an STRtree.
+    because a segment whose ends are both at least D_k away is at least that far. Long segments
+    (gaps, corners cut straight) are cut into pieces first, so that they do not spoil the bound;
+    points still without a proof go to an STRtree. Ties go to the lowest segment.
 
     >>> square = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
     >>> nearest_segment(np.array([[0.5, -0.2], [1.1, 0.5]]), square, True)
@@ -58,30 +58,56 @@ def nearest_segment(points: FloatArray, vertices: FloatArray, closed: bool, *,
         return np.zeros(len(points), dtype=np.intp), np.full(len(points), np.inf)
     if len(a) <= _FEW_SEGMENTS:
         return _nearest_segment_brute(points, a, b)
-    k = min(k, len(vertices))
-    vdist, vidx = cKDTree(vertices).query(points, k=k)
+    a, b, piece_of = _cut_long_segments(a, b)
+    ends = a if closed else np.vstack([a, b[-1:]])  # vertex j ends piece j-1 and starts j
+    k = min(k, len(ends))
+    vdist, vidx = cKDTree(ends).query(points, k=k)
     vdist, vidx = vdist.reshape(len(points), k), vidx.reshape(len(points), k)
     cand = np.concatenate([vidx - 1, vidx], axis=1)
     cand = cand % len(a) if closed else np.clip(cand, 0, len(a) - 1)
-    length = np.hypot(*(b - a).T)
-    long = np.flatnonzero(length > 2.0 * np.median(length))
-    if 0 < len(long) <= _LONG_SEGMENTS and len(long) < len(a):
-        cand = np.concatenate([cand, np.broadcast_to(long, (len(points), len(long)))], axis=1)
-        length[long] = 0.0  # measured directly: out of the bound
-    d = _segment_distance_xy(points[:, 0:1], points[:, 1:2], a[:, 0][cand], a[:, 1][cand],
-                             b[:, 0][cand], b[:, 1][cand])
-    dist = d.min(axis=1)
-    seg = np.where(d <= dist[:, None], cand, len(a)).min(axis=1)  # ties: the first segment
-    if k < len(vertices):
-        bound = np.sqrt(np.maximum(vdist[:, -1] ** 2 - (0.5 * length.max()) ** 2, 0.0))
+    seg, dist = _nearest_candidate(points, a, b, cand)
+    if k < len(ends):
+        half = 0.5 * float(np.hypot(*(b - a).T).max())
+        bound = np.sqrt(np.maximum(vdist[:, -1] ** 2 - half**2, 0.0))
         unsure = np.flatnonzero(dist > bound)
         if len(unsure):
             seg[unsure], dist[unsure] = _nearest_segment_tree(points[unsure], a, b)
-    return seg.astype(np.intp), dist
+    return piece_of[seg], dist
 
 
-#: Segments longer than 2 x the median that `nearest_segment` measures against every point.
-_LONG_SEGMENTS = 16
+def _nearest_candidate(points: FloatArray, a: FloatArray, b: FloatArray, cand: IntArray,
+                       chunk: int = 1 << 15) -> tuple[IntArray, FloatArray]:
+    """Per point, the nearest of its candidate segments ``cand`` (n, c) and the distance to it
+    (ties: the lowest index). Chunked: small temporaries stay in cache, about 5x faster."""
+    seg = np.empty(len(points), dtype=np.intp)
+    dist = np.empty(len(points))
+    for c0 in range(0, len(points), chunk):
+        part = slice(c0, c0 + chunk)
+        c, p = cand[part], points[part]
+        d = _segment_distance_xy(p[:, 0:1], p[:, 1:2], a[:, 0][c], a[:, 1][c], b[:, 0][c],
+                                 b[:, 1][c])
+        dist[part] = d.min(axis=1)
+        seg[part] = np.where(d <= dist[part, None], c, len(a)).min(axis=1)
+    return seg, dist
+
+
+def _cut_long_segments(a: FloatArray, b: FloatArray) -> tuple[FloatArray, FloatArray, IntArray]:
+    """Segments longer than twice the median cut into equal pieces (at most about 2 pieces per
+    segment in all): starts, ends and, for each piece, the segment it is part of."""
+    length = np.hypot(*(b - a).T)
+    piece = max(2.0 * float(np.median(length)), float(length.sum()) / len(length))
+    count = np.maximum(np.ceil(length / piece), 1).astype(np.intp) if piece > 0 else \
+        np.ones(len(a), dtype=np.intp)
+    if (count == 1).all():
+        return a, b, np.arange(len(a))
+    piece_of = np.repeat(np.arange(len(a)), count)
+    j = np.arange(len(piece_of)) - np.repeat(np.cumsum(count) - count, count)
+    t0, t1 = j / count[piece_of], (j + 1) / count[piece_of]
+    ab = (b - a)[piece_of]
+    starts = a[piece_of] + t0[:, None] * ab
+    stops = np.where((j + 1 == count[piece_of])[:, None], b[piece_of],
+                     a[piece_of] + t1[:, None] * ab)
+    return starts, stops, piece_of
 
 
 #: Polylines with at most this many segments are measured against every segment directly.
@@ -131,8 +157,7 @@ def farther_than(points: FloatArray, vertices: FloatArray, closed: bool, limit: 
     _, v = cKDTree(vertices).query(points)
     cand = np.column_stack([v - 1, v])
     cand = cand % len(a) if closed else np.clip(cand, 0, len(a) - 1)
-    bound = _segment_distance_xy(points[:, 0:1], points[:, 1:2], a[:, 0][cand], a[:, 1][cand],
-                                 b[:, 0][cand], b[:, 1][cand]).min(axis=1)
+    _, bound = _nearest_candidate(points, a, b, cand)
     maybe = np.flatnonzero(bound > limit)
     seg, dist = nearest_segment(points[maybe], vertices, closed)
     far = dist > limit

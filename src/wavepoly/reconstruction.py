@@ -22,12 +22,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import shapely
 from scipy.ndimage import maximum_filter1d
 from scipy.spatial import cKDTree
 
 from . import wavelets
-from .geometry import hull_candidates, nearest_segment, segment_distance
+from .geometry import hull_candidates, nearest_segment, polyline_distance, segment_distance
 from .levels import Pyramid
 from .types import FloatArray, IntArray
 
@@ -297,7 +296,7 @@ def reconstruct_contour(pyramid: Pyramid, ordered: FloatArray, points: FloatArra
     if own_edge_distance(chosen, chosen_u, points, params, closed).max(initial=0.0) <= (
             tolerance * (1 + SLACK)):
         vertices, vparams = chosen, chosen_u
-    dist = shapely.distance(shapely.points(points), _geometry(vertices, closed))
+    dist = polyline_distance(points, vertices, closed and len(vertices) >= 3)
     return Reconstruction(vertices, vparams, closed, gdl,
                           pyramid.coarsest if start_level is None else start_level, n_wavelet,
                           float(dist.max(initial=0.0)), float(dist.mean()) if len(dist) else 0.0)
@@ -332,12 +331,6 @@ def _gap_has_data(u: FloatArray, alive_u: FloatArray, gdl: list[Msc]) -> np.ndar
     live[gap_of_p] = True
     live[0] = live[-1] = live[0] | live[-1]  # the two ends are one gap on a closed contour
     return live[gap_of_u]
-
-
-def _geometry(vertices: FloatArray, closed: bool):
-    if closed and len(vertices) >= 3:
-        return shapely.linearrings(vertices)
-    return shapely.linestrings(vertices)
 
 
 def _edge_of(vparams: FloatArray, params: FloatArray, closed: bool) -> IntArray:
