@@ -118,7 +118,7 @@ def _nearest_segment_brute(points: FloatArray, a: FloatArray, b: FloatArray
                            ) -> tuple[IntArray, FloatArray]:
     seg = np.empty(len(points), dtype=np.intp)
     dist = np.empty(len(points))
-    step = max(1, 2_000_000 // len(a))
+    step = max(1, (1 << 18) // len(a))  # cache-sized chunks
     for c0 in range(0, len(points), step):
         p = points[c0:c0 + step]
         d = _segment_distance_xy(p[:, 0:1], p[:, 1:2], a[None, :, 0], a[None, :, 1],
