@@ -28,7 +28,10 @@ def check_within_tolerance(points, result):
     dist = distance_to_output(points[inliers], result)
     assert dist.max() <= result.tolerance * (1 + 1e-9)
     assert result.max_error <= result.tolerance * (1 + 1e-9)
-    np.testing.assert_allclose(result.max_error, dist.max(), rtol=1e-6, atol=1e-12)
+    # max_error measures each point against its own contour; another contour may be nearer
+    # (walls side by side), so the distance to the whole output is at most that
+    assert dist.max() <= result.max_error * (1 + 1e-9)
+    assert dist.max() >= 0.9 * result.max_error
     return dist
 
 

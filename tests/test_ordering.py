@@ -61,12 +61,15 @@ def test_svg_drawings_with_junctions_stay_sane(shared_data, name):
 
 @pytest.mark.parametrize("text, rings", [("B", 3), ("8", 3), ("&", 2), ("kx", 2), ("O", 2),
                                          ("i", 2), ("%", 5)])
-@pytest.mark.parametrize("noise", [0.0, 0.02])
+@pytest.mark.parametrize("noise", [0.0, 0.02, 0.04])  # up to half the radius
 def test_glyph_contours_closure_and_order(text, rings, noise):
     shape = glyph_outlines(text)
     assert len(shape.rings) == rings
     pts = sample_rings(shape.rings, spacing=0.012, noise=noise, seed=4)
     ordering = order_points(pts, 0.08)
+    # noise widens the neighbourhoods, and says so
+    assert any("noisy scan" in n for n in ordering.notes) == (noise > 0)
+    assert len(ordering.merged_walls) <= 3  # glyph walls are far apart; no false alarms
     assert len(ordering.contours) == rings
     assert all(c.closed for c in ordering.contours)
     found = set()
@@ -76,7 +79,8 @@ def test_glyph_contours_closure_and_order(text, rings, noise):
         assert tau >= 0.99, (text, ring, tau)
         found.add(ring)
     assert found == set(range(rings))  # one contour per true ring
-    assert len(ordering.outliers) <= 0.01 * len(pts)
+    # at noise sigma = radius / 2, 4.6 % of the points lie beyond the radius from the true curve
+    assert len(ordering.outliers) <= (0.01 if noise < 0.04 else 0.05) * len(pts)
     check_coverage(pts, ordering)
 
 
@@ -90,11 +94,11 @@ def test_open_curves_and_islands():
     ordering = order_points(pts, 0.1)
     flags = sorted(c.closed for c in ordering.contours)
     assert flags == [False, False, True]
+    data_ends = np.array([arc[0], arc[-1], line[0], line[-1]])
     for c in ordering.contours:
-        if not c.closed:  # the ends reach the ends of the data
-            ends = pts[c.members][[0, -1]]
-            assert np.linalg.norm(c.points[[0, -1]] - c.points[[0, -1]], axis=1).max() == 0
-            assert len(ends) == 2
+        if not c.closed:  # the ends reach the ends of the data, within the radius
+            gap = np.linalg.norm(c.points[[0, -1]][:, None] - data_ends[None], axis=2).min(axis=1)
+            assert gap.max() <= 0.1
 
 
 def test_corner_is_kept_not_cut():

@@ -8,7 +8,9 @@ Python loop runs over points:
 1. *Neighbourhoods*: the plane is cut into cells of radius/2; every occupied cell seeds a
    neighbourhood of the fixed ``radius``, summarized by its centroid and the least-squares
    regression line through it (the tangent: the principal axis of the neighbourhood). Dense
-   clouds enter these sums as one weighted atom per cell of radius/8 (`_atoms`).
+   clouds enter these sums as one weighted atom per cell of radius/8 (`_atoms`). On a noisy
+   scan (bell-shaped scatter about the curves, `_noise_level`) the neighbourhoods reach 5 x the
+   noise instead, up to 4 x radius, so that the tangent follows the curve, not the scatter.
 2. *Thinning*: a random (seeded) maximal set of centroids at least radius/2 apart is kept
    (Luby's parallel rounds), so consecutive ordered points are radius/2 .. radius apart, as
    one marching step would place them.
@@ -18,6 +20,7 @@ Python loop runs over points:
    both neighbours lie ahead of the tangent, and gaps in the scan). Where the chain turns
    sharply, the run of turning points is replaced by the intersection of the straight legs on
    either side, so corners stay sharp instead of being rounded by the neighbourhood averaging.
+   Short chains alongside longer ones (noise split off a wall, a notch's tip) are absorbed.
 4. Every input point belongs to the contour of its nearest ordered point (``members``); points of
    contours too short to be curves, or farther than ``radius`` from their contour, are outliers.
 
@@ -30,6 +33,7 @@ from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
+from scipy.ndimage import maximum_filter1d
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components, depth_first_order
 from scipy.spatial import cKDTree
@@ -43,6 +47,12 @@ from .types import FloatArray, IntArray, OrderedContour, Ordering
 CORNER_TURN = 30.0
 #: Perpendicular RMS spread (in radii) above which a straight neighbourhood is two merged walls.
 MERGE_SPREAD = 0.35
+#: On noisy scans the neighbourhoods reach this many times the noise level (at most 4 radii):
+#: wide enough that the regression line follows the curve, not the scatter across it.
+NOISE_REACH = 5.0
+#: Kurtosis of the perpendicular scatter above which it counts as noise (a Gaussian has 3; two
+#: sharp walls side by side have 1, a flat band 1.8).
+NOISE_KURTOSIS = 2.2
 
 
 @dataclass(frozen=True)
@@ -53,6 +63,8 @@ class _Nodes:
     tangent: FloatArray
     ratio: FloatArray  # smaller / larger principal variance
     spread: FloatArray  # perpendicular RMS distance of the neighbourhood's points
+    reach: float  # radius of the neighbourhoods (the radius, or wider for noisy scans)
+    noise: float  # typical perpendicular spread of the points about their curve
 
 
 def median_spacing(points: FloatArray, sample: int = 20000, seed: int = 0) -> float:
@@ -127,17 +139,21 @@ def order_points(points: FloatArray, radius: float, *, seed: int = 0, min_points
                      f"along the curves ({spacing:.4g}) is more than a third of it")
         radius = new_radius
     rng = np.random.default_rng(seed)
-    atoms = _atoms(pts, radius)
-    nodes = _neighbourhoods(atoms, radius)
+    nodes, atoms = _neighbourhoods(pts, radius)
+    if nodes.reach > radius:
+        notes.append(f"noisy scan (scatter {nodes.noise:.3g} about the curves): neighbourhoods "
+                     f"widened from {radius:.4g} to {nodes.reach:.4g} to follow the curves")
     keep = _thin(nodes.xy, radius / 2, rng)
-    nodes = _Nodes(nodes.xy[keep], nodes.tangent[keep], nodes.ratio[keep], nodes.spread[keep])
+    nodes = _Nodes(nodes.xy[keep], nodes.tangent[keep], nodes.ratio[keep], nodes.spread[keep],
+                   nodes.reach, nodes.noise)
     links = _link(nodes, radius)
-    chains = _chains(links, len(nodes.xy))
+    chains, absorbed = _drop_side_chains(nodes, _chains(links, len(nodes.xy)))
     merged = nodes.xy[_merged_walls(nodes, chains, radius)]
     if len(merged):
         notes.append(f"{len(merged)} place(s) where two walls closer than 2 x radius "
                      "may have merged into one contour")
-    contours, outliers = _contours(pts, atoms.tree, nodes, chains, radius, min_points)
+    contours, outliers = _contours(pts, atoms.tree, nodes, chains, absorbed, radius,
+                                   min_points)
     return Ordering(contours, outliers, radius, merged, tuple(notes))
 
 
@@ -145,19 +161,56 @@ def order_points(points: FloatArray, radius: float, *, seed: int = 0, min_points
 # 1. neighbourhoods
 
 
-def _neighbourhoods(atoms: _Atoms, radius: float) -> _Nodes:
-    """Centroid and principal axes of the fixed-radius neighbourhood of each occupied cell."""
+def _neighbourhoods(pts: FloatArray, radius: float) -> tuple[_Nodes, _Atoms]:
+    """Centroid and principal axes of the neighbourhood of each occupied cell of radius / 2,
+    and the atoms they were summed over.
+
+    The neighbourhoods have the fixed ``radius``, or on a noisy scan `NOISE_REACH` x the noise
+    level (up to 4 x radius), so that they stay longer along the curve than across it.
+    """
+    atoms = _atoms(pts, radius)
     inverse, counts = _cells(atoms.cell // (ATOM_DIVISIONS // 2), atoms.weight)  # radius / 2
-    seeds = np.column_stack([np.bincount(inverse, atoms.weight * atoms.xy[:, k])
-                             for k in range(2)]) / counts[:, None]
-    xy = seeds
-    for _ in range(2):  # the second pass sees a neighbourhood centred on the curve
-        centroid, cov = _moments(xy, atoms, radius)
+    xy = np.column_stack([np.bincount(inverse, atoms.weight * atoms.xy[:, k])
+                          for k in range(2)]) / counts[:, None]
+    noise = _noise_level(xy, atoms, radius)
+    reach = min(max(radius, NOISE_REACH * noise), 4 * radius)
+    if reach > radius:  # coarser atoms keep the wider neighbourhoods' sums cheap
+        atoms = _atoms(pts, reach, min_per_cell=1.0)
+    for _ in range(3):  # later passes see a neighbourhood centred on the curve
+        centroid, cov = _moments(xy, atoms, reach)
         tangent, ratio, spread = _principal_axes(cov)
         # project onto the regression line: move across the curve, never along it
         along = np.einsum("nd,nd->n", xy - centroid, tangent)
         xy = centroid + along[:, None] * tangent
-    return _Nodes(xy, tangent, ratio, spread)
+    return _Nodes(xy, tangent, ratio, spread, reach, noise), atoms
+
+
+def _noise_level(seeds: FloatArray, atoms: _Atoms, radius: float, sample: int = 2000) -> float:
+    """Typical scatter of the points about their curve: the median perpendicular spread about
+    the regression lines at a sample of the seeds, over 3 x radius (wide enough that a scatter
+    of up to radius / 2 is not cut off).
+
+    Only bell-shaped scatter is noise: where the perpendicular offsets have a kurtosis below
+    `NOISE_KURTOSIS` (two walls side by side, each sharp, or a flat band) the spread is a shape
+    of the data, counted as no noise, so that neighbourhoods stay narrow enough to see it.
+    """
+    pick = np.random.default_rng(0).choice(len(seeds), min(sample, len(seeds)), replace=False)
+    xy = seeds[pick]
+    for _ in range(2):
+        centroid, cov = _moments(xy, atoms, 3 * radius)
+        tangent, _, spread = _principal_axes(cov)
+        along = np.einsum("nd,nd->n", xy - centroid, tangent)
+        xy = centroid + along[:, None] * tangent
+    pairs = cKDTree(xy).sparse_distance_matrix(atoms.tree, 3 * radius, output_type="ndarray")
+    owner, idx = pairs["i"], pairs["j"]
+    normal = np.column_stack([-tangent[:, 1], tangent[:, 0]])
+    offset = np.einsum("nd,nd->n", atoms.xy[idx] - centroid[owner], normal[owner])
+    w = atoms.weight[idx]
+    total = np.bincount(owner, w, len(xy))
+    m2 = np.bincount(owner, w * offset**2, len(xy)) / np.maximum(total, 1e-300)
+    m4 = np.bincount(owner, w * offset**4, len(xy)) / np.maximum(total, 1e-300)
+    kurtosis = np.divide(m4, m2**2, out=np.zeros_like(m4), where=m2**2 > 0)
+    return float(np.median(np.where(kurtosis >= NOISE_KURTOSIS, spread, 0.0)))
 
 
 def _cells(cell: IntArray, weight: FloatArray | None = None) -> tuple[IntArray, FloatArray]:
@@ -188,8 +241,9 @@ class _Atoms:
 ATOM_DIVISIONS = 8
 
 
-def _atoms(pts: FloatArray, radius: float) -> _Atoms:
-    """The points themselves, or where they are dense, one atom per cell of radius / 8.
+def _atoms(pts: FloatArray, radius: float, min_per_cell: float = 2.0) -> _Atoms:
+    """The points themselves, or where they are dense, one atom per cell of radius / 8 (of the
+    neighbourhoods' radius).
 
     An atom is the centroid of its cell's points, weighted by their number and carrying their
     scatter, so a neighbourhood's moments are the same sums over far fewer terms; only the
@@ -197,7 +251,7 @@ def _atoms(pts: FloatArray, radius: float) -> _Atoms:
     """
     cell = np.floor(pts / (radius / ATOM_DIVISIONS)).astype(np.int64)
     inverse, counts = _cells(cell)
-    if len(counts) > len(pts) / 2:  # fewer than 2 points per cell: little gain
+    if len(counts) > len(pts) / min_per_cell:  # too few points per cell: little gain
         return _Atoms(pts, np.ones(len(pts)), np.zeros((len(pts), 3)), cell)
     centre = np.column_stack([np.bincount(inverse, pts[:, k]) for k in range(2)]) / counts[:, None]
     d = pts - centre[inverse]
@@ -299,7 +353,7 @@ def _link(nodes: _Nodes, radius: float) -> IntArray:
     key_fwd = cand[:, 0] * n + cand[:, 1]
     key_rev = cand[:, 1] * n + cand[:, 0]
     mutual = np.isin(key_fwd, key_rev) & (cand[:, 0] < cand[:, 1])
-    return _join_ends(nodes, cand[mutual], radius)
+    return _join_ends(nodes, cand[mutual])
 
 
 def _first(mask: np.ndarray) -> IntArray:
@@ -308,15 +362,17 @@ def _first(mask: np.ndarray) -> IntArray:
     return np.where(mask.any(axis=1), idx, -1)
 
 
-def _join_ends(nodes: _Nodes, links: IntArray, radius: float) -> IntArray:
+def _join_ends(nodes: _Nodes, links: IntArray) -> IntArray:
     """Join free ends (and lone nodes) that are each other's nearest free node.
 
-    Ends join within 4 x radius whatever their directions (sharp corners, where both neighbours
-    of the corner node lie ahead of its tangent), and across a gap of up to 5 x radius when each
-    end faces the other (a gap in the scan). A chain's two ends join only when the chain is long
-    enough to close on itself and one end points at the other. The joining repeats, so a
-    lone node can bridge a gap.
+    With R the neighbourhood reach (the radius, or wider on noisy scans), ends join within 4 R
+    whatever their directions (sharp corners, where both neighbours of the corner node lie ahead
+    of its tangent, and the tip of a notch whose walls merged), and across a gap of up to 5 R
+    when each end faces the other (a gap in the scan). A chain's two ends join only when the
+    chain is long enough to close on itself and one end points at the other. The joining
+    repeats, so a lone node can bridge a gap.
     """
+    reach = nodes.reach
     n = len(nodes.xy)
     for _ in range(8):
         degree = np.bincount(links.ravel(), minlength=n) if len(links) else np.zeros(n, int)
@@ -328,7 +384,7 @@ def _join_ends(nodes: _Nodes, links: IntArray, radius: float) -> IntArray:
         outward = _outward(nodes.xy, links, free, degree)
         k = min(5, len(free))
         dist, nbr = cKDTree(nodes.xy[free]).query(nodes.xy[free], k=k,
-                                                  distance_upper_bound=5.0 * radius)
+                                                  distance_upper_bound=5.0 * reach)
         best = np.full(len(free), -1)
         for col in range(1, k):
             cand = np.minimum(nbr[:, col], len(free) - 1)
@@ -340,15 +396,19 @@ def _join_ends(nodes: _Nodes, links: IntArray, radius: float) -> IntArray:
             ahead_other = np.einsum("ij,ij->i", -gap, outward[cand])
             # a chain closes on itself only when one of its ends points at the other: a short
             # straight run has its ends close together too, but both face away (at a sharp
-            # notch one end may overshoot the other, so one end facing is enough)
-            ok &= ~same | ((size[comp[free]] >= 4) & ((ahead > 0) | (ahead_other > 0)))
+            # notch one end may overshoot the other, so one end facing is enough; where the
+            # march crossed between the notch's walls, neither faces, but a long chain whose
+            # ends are this close is a closed contour)
+            facing_one = (ahead > 0) | (ahead_other > 0)
+            long_close = (size[comp[free]] >= 16) & (dist[:, col] <= 3.0 * reach)
+            ok &= ~same | ((size[comp[free]] >= 4) & (facing_one | long_close))
             # a march never turns back: a lone node joins a chain's end only ahead of it (lone
             # nodes between two walls of a sharp notch would otherwise hook the end round)
             lone, lone_other = degree[free] == 0, degree[free[cand]] == 0
             ok &= ~(lone & ~lone_other & (ahead_other <= 0))
             ok &= ~(lone_other & ~lone & (ahead <= 0))
             facing = (ahead > 0.7 * dist[:, col]) & (ahead_other > 0.7 * dist[:, col])
-            ok &= (dist[:, col] <= 4.0 * radius) | facing
+            ok &= (dist[:, col] <= 4.0 * reach) | facing
             best[ok] = cand[ok]
         mutual = (best >= 0) & (best[np.maximum(best, 0)] == np.arange(len(free)))
         pairs = np.column_stack([free[mutual], free[best[mutual]]])
@@ -406,6 +466,29 @@ def _chains(links: IntArray, n: int) -> list[tuple[IntArray, bool]]:
     return out
 
 
+def _drop_side_chains(nodes: _Nodes, chains: list[tuple[IntArray, bool]], short: int = 12
+                      ) -> tuple[list[tuple[IntArray, bool]], IntArray]:
+    """Chains of fewer than ``short`` nodes that run alongside a longer chain, within 2.5 x the
+    neighbourhood reach of it: noise split off a wall or the tip of a notch, not a contour.
+
+    Returns the other chains, and the nodes of the dropped ones: their points go to the
+    contour nearest to them (`_contours`), which then covers them.
+    """
+    sizes = np.array([len(seq) for seq, _ in chains])
+    if len(chains) < 2 or (sizes >= short).all():
+        return chains, np.empty(0, dtype=np.intp)
+    drop = np.zeros(len(chains), dtype=bool)
+    for c in np.flatnonzero(sizes < short):
+        others = [seq for (seq, _), size in zip(chains, sizes) if size > sizes[c]]
+        if not others:
+            continue
+        dist, _ = cKDTree(nodes.xy[np.concatenate(others)]).query(nodes.xy[chains[c][0]])
+        drop[c] = dist.max() <= 2.5 * nodes.reach
+    absorbed = [seq for (seq, _), d in zip(chains, drop) if d]
+    return ([chain for chain, d in zip(chains, drop) if not d],
+            np.concatenate(absorbed) if absorbed else np.empty(0, dtype=np.intp))
+
+
 def _turning(xy: FloatArray, closed: bool, step: int = 2) -> FloatArray:
     """Turning angle (degrees) at each point between the chords to the points ``step`` away."""
     n = len(xy)
@@ -423,13 +506,27 @@ def _turning(xy: FloatArray, closed: bool, step: int = 2) -> FloatArray:
 
 def _merged_walls(nodes: _Nodes, chains: list[tuple[IntArray, bool]], radius: float
                   ) -> IntArray:
-    """Nodes on straight stretches whose neighbourhood is as wide as two nearby walls."""
+    """Nodes on straight stretches whose neighbourhood is as wide as two nearby walls.
+
+    Two walls a distance d apart, each with the scan's noise, spread sqrt(noise**2 + d**2 / 4)
+    about one regression line; the excess over the noise marks them when d / 2 is over
+    `MERGE_SPREAD` x radius and over the noise (closer walls are lost in the noise).
+    """
     out = []
+    excess = np.sqrt(np.maximum(nodes.spread**2 - nodes.noise**2, 0.0))
     for seq, closed in chains:
         if len(seq) < 5:
             continue
-        straight = _turning(nodes.xy[seq], closed) < CORNER_TURN
-        out.append(seq[straight & (nodes.spread[seq] > MERGE_SPREAD * radius)])
+        # a neighbourhood that reaches a corner spreads over both of its legs
+        bend = _turning(nodes.xy[seq], closed) >= CORNER_TURN
+        width = 2 * int(np.ceil(2 * nodes.reach / radius)) + 1
+        near_bend = maximum_filter1d(bend, width, mode="wrap" if closed else "nearest")
+        wide = ~near_bend & (excess[seq] > max(MERGE_SPREAD * radius, nodes.noise))
+        # walls run side by side for a while; a lone wide node is the noise of the estimate
+        before, after = np.roll(wide, 1), np.roll(wide, -1)
+        if not closed:
+            before[0] = after[-1] = False
+        out.append(seq[wide & (before | after)])
     return np.concatenate(out) if out else np.empty(0, dtype=np.intp)
 
 
@@ -483,18 +580,23 @@ def _intersect(a0, a1, b0, b1) -> FloatArray | None:
 
 
 def _contours(pts: FloatArray, tree: cKDTree, nodes: _Nodes,
-              chains: list[tuple[IntArray, bool]], radius: float, min_points: int
-              ) -> tuple[list[OrderedContour], IntArray]:
+              chains: list[tuple[IntArray, bool]], absorbed: IntArray, radius: float,
+              min_points: int) -> tuple[list[OrderedContour], IntArray]:
     """Contours from chains of at least ``min_points`` nodes, each with its member points.
 
     A point belongs to the contour of its nearest node among those contours (within 2 x radius;
     farther points, and the points of shorter chains that no contour is near, are outliers).
+    The ``absorbed`` nodes of dropped side chains count as nodes of the contour nearest them.
     """
     chains = [(seq, closed) for seq, closed in chains if len(seq) >= min_points]
     if not chains:
         return [], np.arange(len(pts), dtype=np.intp)
     node_ids = np.concatenate([seq for seq, _ in chains])
     owner = np.repeat(np.arange(len(chains)), [len(seq) for seq, _ in chains])
+    if len(absorbed):
+        _, host = cKDTree(nodes.xy[node_ids]).query(nodes.xy[absorbed])
+        node_ids, owner = np.concatenate([node_ids, absorbed]), np.concatenate([owner,
+                                                                                 owner[host]])
     dist, nearest = cKDTree(nodes.xy[node_ids]).query(pts, distance_upper_bound=2.0 * radius)
     chain_of_point = np.where(np.isfinite(dist), owner[np.minimum(nearest, len(owner) - 1)], -1)
     order = np.argsort(chain_of_point, kind="stable")
@@ -508,7 +610,10 @@ def _contours(pts: FloatArray, tree: cKDTree, nodes: _Nodes,
         if not closed:
             xy = _extend_ends(xy, pts[members], radius)
         # a member within 0.6 x radius of a node that is still a vertex needs no measuring
-        kept = _still_vertices(nodes.xy[seq], xy)[nearest[members] - first_node[c]]
+        at = nearest[members] - first_node[c]
+        own = (at >= 0) & (at < len(seq))  # not an absorbed node
+        kept = np.zeros(len(members), dtype=bool)
+        kept[own] = _still_vertices(nodes.xy[seq], xy)[at[own]]
         unsure = np.flatnonzero(~(kept & (dist[members] <= _CORNER_GAP * radius)))
         xy, far = _cover_cut_corners(xy, pts[members[unsure]], closed, radius)
         inside = np.ones(len(members), dtype=bool)
