@@ -185,7 +185,7 @@ def _neighbourhoods(pts: FloatArray, radius: float) -> tuple[_Nodes, _Atoms]:
     return _Nodes(xy, tangent, ratio, spread, reach, noise), atoms
 
 
-def _noise_level(seeds: FloatArray, atoms: _Atoms, radius: float, sample: int = 600) -> float:
+def _noise_level(seeds: FloatArray, atoms: _Atoms, radius: float, sample: int = 2000) -> float:
     """Typical scatter of the points about their curve: the median perpendicular spread about
     the regression lines at a sample of the seeds, over 3 x radius (wide enough that a scatter
     of up to radius / 2 is not cut off).
