@@ -135,6 +135,17 @@ def test_close_walls_are_reported():
     assert any("merged" in n for n in ordering.notes)
 
 
+def test_a_wide_band_is_not_two_walls():
+    """A slice cut along a surface: a flat band 1.5 radii wide is one curve, reported as a band
+    (two sharp walls as far apart have a bimodal scatter and are reported as merged)."""
+    rng = np.random.default_rng(2)
+    pts = np.column_stack([rng.uniform(0, 10, 8000), rng.uniform(-0.075, 0.075, 8000)])
+    ordering = order_points(pts, 0.1)
+    assert len(ordering.contours) == 1 and not ordering.contours[0].closed
+    assert len(ordering.merged_walls) == 0
+    assert any("band wider than the radius" in n for n in ordering.notes)
+
+
 def test_isolated_outliers_are_counted():
     shape = glyph_outlines("O")
     pts = sample_rings(shape.rings, spacing=0.012, noise=0.01, seed=7)

@@ -50,6 +50,9 @@ MERGE_SPREAD = 0.35
 #: On noisy scans the neighbourhoods reach this many times the noise level (at most 4 radii):
 #: wide enough that the regression line follows the curve, not the scatter across it.
 NOISE_REACH = 5.0
+#: Kurtosis of the perpendicular scatter below which a wide neighbourhood is two walls, not a
+#: band of points (two sharp walls: 1; a flat band: 1.8).
+MERGE_KURTOSIS = 1.5
 #: Kurtosis of the perpendicular scatter above which it counts as noise (a Gaussian has 3; two
 #: sharp walls side by side have 1, a flat band 1.8).
 NOISE_KURTOSIS = 2.2
@@ -148,10 +151,16 @@ def order_points(points: FloatArray, radius: float, *, seed: int = 0, min_points
                    nodes.reach, nodes.noise)
     links = _link(nodes, radius)
     chains, absorbed = _drop_side_chains(nodes, _chains(links, len(nodes.xy)))
-    merged = nodes.xy[_merged_walls(nodes, chains, radius)]
+    wide = _wide_nodes(nodes, chains, radius)
+    two_walls = _perpendicular_kurtosis(nodes.xy[wide], nodes.tangent[wide], atoms,
+                                        nodes.reach) < MERGE_KURTOSIS
+    merged = nodes.xy[wide[two_walls]]
     if len(merged):
         notes.append(f"{len(merged)} place(s) where two walls closer than 2 x radius "
                      "may have merged into one contour")
+    if (~two_walls).any():
+        notes.append(f"{int((~two_walls).sum())} place(s) where the points spread over a band "
+                     "wider than the radius (a slice cut along a surface, or too thick?)")
     contours, outliers = _contours(pts, atoms.tree, nodes, chains, absorbed, radius,
                                    min_points)
     return Ordering(contours, outliers, radius, merged, tuple(notes))
@@ -201,16 +210,24 @@ def _noise_level(seeds: FloatArray, atoms: _Atoms, radius: float, sample: int = 
         tangent, _, spread = _principal_axes(cov)
         along = np.einsum("nd,nd->n", xy - centroid, tangent)
         xy = centroid + along[:, None] * tangent
-    pairs = cKDTree(xy).sparse_distance_matrix(atoms.tree, 3 * radius, output_type="ndarray")
+    kurtosis = _perpendicular_kurtosis(centroid, tangent, atoms, 3 * radius)
+    return float(np.median(np.where(kurtosis >= NOISE_KURTOSIS, spread, 0.0)))
+
+
+def _perpendicular_kurtosis(centre: FloatArray, tangent: FloatArray, atoms: _Atoms,
+                            reach: float) -> FloatArray:
+    """Kurtosis (m4 / m2**2) of the offsets across each line (``centre``, ``tangent``) of the
+    points within ``reach`` of its centre: 3 for Gaussian scatter, 1.8 for a flat band, 1 for
+    two sharp walls side by side."""
+    pairs = cKDTree(centre).sparse_distance_matrix(atoms.tree, reach, output_type="ndarray")
     owner, idx = pairs["i"], pairs["j"]
     normal = np.column_stack([-tangent[:, 1], tangent[:, 0]])
-    offset = np.einsum("nd,nd->n", atoms.xy[idx] - centroid[owner], normal[owner])
+    offset = np.einsum("nd,nd->n", atoms.xy[idx] - centre[owner], normal[owner])
     w = atoms.weight[idx]
-    total = np.bincount(owner, w, len(xy))
-    m2 = np.bincount(owner, w * offset**2, len(xy)) / np.maximum(total, 1e-300)
-    m4 = np.bincount(owner, w * offset**4, len(xy)) / np.maximum(total, 1e-300)
-    kurtosis = np.divide(m4, m2**2, out=np.zeros_like(m4), where=m2**2 > 0)
-    return float(np.median(np.where(kurtosis >= NOISE_KURTOSIS, spread, 0.0)))
+    total = np.maximum(np.bincount(owner, w, len(centre)), 1e-300)
+    m2 = np.bincount(owner, w * offset**2, len(centre)) / total
+    m4 = np.bincount(owner, w * offset**4, len(centre)) / total
+    return np.divide(m4, m2**2, out=np.zeros_like(m4), where=m2**2 > 0)
 
 
 def _cells(cell: IntArray, weight: FloatArray | None = None) -> tuple[IntArray, FloatArray]:
@@ -504,9 +521,10 @@ def _turning(xy: FloatArray, closed: bool, step: int = 2) -> FloatArray:
     return np.where(norm > 0, turn, 0.0)
 
 
-def _merged_walls(nodes: _Nodes, chains: list[tuple[IntArray, bool]], radius: float
-                  ) -> IntArray:
-    """Nodes on straight stretches whose neighbourhood is as wide as two nearby walls.
+def _wide_nodes(nodes: _Nodes, chains: list[tuple[IntArray, bool]], radius: float
+                ) -> IntArray:
+    """Nodes on straight stretches whose neighbourhood is as wide as two nearby walls (or a
+    band of points as wide: `_perpendicular_kurtosis` tells them apart).
 
     Two walls a distance d apart, each with the scan's noise, spread sqrt(noise**2 + d**2 / 4)
     about one regression line; the excess over the noise marks them when d / 2 is over
