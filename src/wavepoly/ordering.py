@@ -160,7 +160,8 @@ def order_points(points: FloatArray, radius: float, *, seed: int = 0, min_points
                      "may have merged into one contour")
     if (~two_walls).any():
         notes.append(f"{int((~two_walls).sum())} place(s) where the points spread over a band "
-                     "wider than the radius (a slice cut along a surface, or too thick?)")
+                     "wider than the radius (a thick wall, clutter, or a slice cut along a "
+                     "surface)")
     contours, outliers = _contours(pts, atoms.tree, nodes, chains, absorbed, radius,
                                    min_points)
     return Ordering(contours, outliers, radius, merged, tuple(notes))
@@ -494,13 +495,19 @@ def _drop_side_chains(nodes: _Nodes, chains: list[tuple[IntArray, bool]], short:
     sizes = np.array([len(seq) for seq, _ in chains])
     if len(chains) < 2 or (sizes >= short).all():
         return chains, np.empty(0, dtype=np.intp)
-    drop = np.zeros(len(chains), dtype=bool)
-    for c in np.flatnonzero(sizes < short):
-        others = [seq for (seq, _), size in zip(chains, sizes) if size > sizes[c]]
-        if not others:
-            continue
-        dist, _ = cKDTree(nodes.xy[np.concatenate(others)]).query(nodes.xy[chains[c][0]])
-        drop[c] = dist.max() <= 2.5 * nodes.reach
+    node_ids = np.concatenate([seq for seq, _ in chains])
+    chain_of = np.repeat(np.arange(len(chains)), sizes)
+    small = np.flatnonzero(sizes[chain_of] < short)  # positions of the short chains' nodes
+    k = min(4 * short, len(node_ids))  # past its own nodes and a wall or two of others
+    dist, nbr = cKDTree(nodes.xy[node_ids]).query(nodes.xy[node_ids[small]], k=k,
+                                                  distance_upper_bound=2.5 * nodes.reach)
+    dist, nbr = dist.reshape(len(small), k), nbr.reshape(len(small), k)
+    found = np.isfinite(dist)
+    longer = found & (sizes[chain_of[np.where(found, nbr, 0)]]
+                      > sizes[chain_of[small]][:, None])
+    beside = np.zeros(len(chains), dtype=np.intp)
+    np.add.at(beside, chain_of[small], longer.any(axis=1))
+    drop = (sizes < short) & (beside == sizes)  # every node of it is beside a longer chain
     absorbed = [seq for (seq, _), d in zip(chains, drop) if d]
     return ([chain for chain, d in zip(chains, drop) if not d],
             np.concatenate(absorbed) if absorbed else np.empty(0, dtype=np.intp))
