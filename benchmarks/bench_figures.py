@@ -64,4 +64,33 @@ def run() -> str:
         parts.append(f"**bunny, adaptive layers** ({len(res.layers)} layers): "
                      "![bunny layer model](figures/bunny-fig7.png) "
                      "![bunny layers](figures/bunny-layers.png)")
+        parts.append(_real_orderings())
     return "\n\n".join(parts)
+
+
+def _real_orderings() -> str:
+    """Issue 3's real scans, ordered (the figures `wavepoly order --plot` draws): a merged
+    bunny slice, a raw range-scan slice (open curves) and the Intel laser map."""
+    from wavepoly.io import read_points
+
+    from .bench_peers import _slice
+
+    scans = SHARED / "scans3d"
+    cases = []
+    for label, path in (("bunny-slice", scans / "bunny_zipper.ply"),
+                        ("bun000-slice", scans / "bunny_range_scans" / "bun000.ply")):
+        cloud = read_points(path)
+        eps = 0.01 * float(np.ptp(cloud, axis=0).max())
+        cases.append((label, _slice(cloud, 1, 0.5, eps), eps))
+    cases.append(("intel-map", read_points(SHARED / "lidar2d" / "intel-corrected.log.gz"), 0.05))
+    lines = ["### Ordering real scans (§2)\n"]
+    for label, pts, radius in cases:
+        ordering = order_points(pts, radius)
+        save_figure(plot_ordering(pts, ordering), FIGURES / f"{label}-ordering.png")
+        n_open = sum(not c.closed for c in ordering.contours)
+        notes = "; ".join(ordering.notes) or "no notes"
+        lines.append(f"**{label}** (radius {radius:.3g}): {len(pts)} points -> "
+                     f"{len(ordering.contours)} contours ({n_open} open), "
+                     f"{len(ordering.outliers)} outliers. Notes: {notes}.\n\n"
+                     f"![{label}](figures/{label}-ordering.png)")
+    return "\n\n".join(lines)
