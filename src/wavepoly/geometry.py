@@ -164,31 +164,47 @@ def farther_than(points: FloatArray, vertices: FloatArray, closed: bool, limit: 
     return maybe[far], seg[far], dist[far]
 
 
-def hull_candidates(points: FloatArray, starts: IntArray, directions: int = 16,
+def _strip_angles() -> FloatArray:
+    """Directions (radians, counter-clockwise) for thin blocks lying along the x axis: dense
+    near the normals, where a thin strip's hull vertices are told apart."""
+    half = np.array([0.0, 1.0, 2.0, 4.0, 8.0, 16.0, 30.0, 50.0, 70.0])
+    around = np.concatenate([-half[:0:-1], half])  # -70 .. 70 degrees about a normal
+    return np.radians(np.concatenate([[0.0], 90.0 + around, [180.0], 270.0 + around]))
+
+
+_STRIP_ANGLES = _strip_angles()
+
+
+def hull_candidates(points: FloatArray, starts: IntArray, angles: FloatArray | None = None,
                     chunk: int = 1 << 17) -> np.ndarray:
     """Mask of the points that may be convex-hull vertices of their block.
 
     The blocks are the runs of consecutive points beginning at ``starts`` (increasing, the
-    first 0). A point strictly inside the polygon of its block's extreme points in
-    ``directions`` directions is no hull vertex (Akl & Toussaint's filter); every other point is
+    first 0). A point strictly inside the polygon of its block's extreme points in the
+    directions ``angles`` is no hull vertex (Akl & Toussaint's filter); every other point is
     kept, so each block's kept points have the block's convex hull. The largest value of any
     convex function over a block, such as the distance to a line, a ray or a segment, is
     therefore the largest over its kept points: thinning a dense scan this way changes no
     tolerance test.
 
+    ``angles`` (radians, increasing in [0, 2 pi)) are measured from the chord of each block
+    (its first point to its last); the default crowds them about the chord's normals, which
+    suits blocks of a scanned curve: thin strips along it.
+
     >>> inner = np.random.default_rng(0).uniform(0.1, 0.9, (8, 2))
     >>> square = np.vstack([[[0, 0], [1, 0], [1, 1], [0, 1]], inner])
-    >>> np.flatnonzero(hull_candidates(square, np.array([0]), directions=8))
+    >>> eight = np.arange(8) * np.pi / 4
+    >>> np.flatnonzero(hull_candidates(square, np.array([0]), eight))
     array([0, 1, 2, 3])
     """
     points = np.asarray(points, dtype=np.float64)
+    angles = _STRIP_ANGLES if angles is None else np.asarray(angles, dtype=np.float64)
     n = len(points)
     keep = np.ones(n, dtype=bool)
     starts = np.asarray(starts, dtype=np.intp)
     ends = np.append(starts[1:], n)
-    angle = np.arange(directions) * (2 * np.pi / directions)
-    dirs = np.stack([np.cos(angle), np.sin(angle)])
-    big = np.flatnonzero(ends - starts > directions)  # smaller blocks are kept whole
+    dirs = np.stack([np.cos(angles), np.sin(angles)])
+    big = np.flatnonzero(ends - starts > len(angles))  # smaller blocks are kept whole
     i = 0
     while i < len(big):  # whole blocks, about ``chunk`` points at a time (bounded memory)
         j = i + max(1, int(np.searchsorted(starts[big[i:]], starts[big[i]] + chunk)))
@@ -203,7 +219,12 @@ def _thin_blocks(points: FloatArray, starts: IntArray, ends: IntArray, dirs: Flo
     counts = ends - starts
     first = np.cumsum(counts) - counts
     index = np.repeat(starts - first, counts) + np.arange(counts.sum())
-    p = points[index]
+    chord = points[ends - 1] - points[starts]
+    norm = np.hypot(chord[:, 0], chord[:, 1])
+    axis = np.where(norm[:, None] > 0, chord / np.where(norm > 0, norm, 1.0)[:, None], [1.0, 0.0])
+    d = points[index] - np.repeat(points[starts], counts, axis=0)  # each block in its own frame:
+    ax, ay = np.repeat(axis[:, 0], counts), np.repeat(axis[:, 1], counts)  # x along its chord
+    p = np.column_stack([d[:, 0] * ax + d[:, 1] * ay, d[:, 1] * ax - d[:, 0] * ay])
     proj = p @ dirs
     top = np.repeat(np.maximum.reduceat(proj, first, axis=0), counts, axis=0)
     at = np.where(proj == top, np.arange(len(p))[:, None], len(p))
