@@ -211,7 +211,7 @@ def _noise_level(seeds: FloatArray, atoms: _Atoms, radius: float, sample: int = 
         tangent, _, spread = _principal_axes(cov)
         along = np.einsum("nd,nd->n", xy - centroid, tangent)
         xy = centroid + along[:, None] * tangent
-    kurtosis = _perpendicular_kurtosis(centroid, tangent, atoms, 3 * radius)
+    kurtosis = _perpendicular_kurtosis(xy, tangent, atoms, 3 * radius)
     return float(np.median(np.where(kurtosis >= NOISE_KURTOSIS, spread, 0.0)))
 
 
