@@ -187,12 +187,18 @@ def _neighbourhoods(pts: FloatArray, radius: float) -> tuple[_Nodes, _Atoms]:
     if reach > radius:  # coarser atoms keep the wider neighbourhoods' sums cheap
         atoms = _atoms(pts, reach, min_per_cell=1.0)
     for _ in range(3):  # later passes see a neighbourhood centred on the curve
-        centroid, cov = _moments(xy, atoms, reach)
-        tangent, ratio, spread = _principal_axes(cov)
-        # project onto the regression line: move across the curve, never along it
-        along = np.einsum("nd,nd->n", xy - centroid, tangent)
-        xy = centroid + along[:, None] * tangent
+        xy, tangent, ratio, spread = _regression_step(xy, atoms, reach)
     return _Nodes(xy, tangent, ratio, spread, reach, noise), atoms
+
+
+def _regression_step(xy: FloatArray, atoms: _Atoms, reach: float
+                     ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """Each centre moved onto the regression line of its neighbourhood (across the curve,
+    never along it), with the line's direction, variance ratio and perpendicular spread."""
+    centroid, cov = _moments(xy, atoms, reach)
+    tangent, ratio, spread = _principal_axes(cov)
+    along = np.einsum("nd,nd->n", xy - centroid, tangent)
+    return centroid + along[:, None] * tangent, tangent, ratio, spread
 
 
 def _noise_level(seeds: FloatArray, atoms: _Atoms, radius: float, sample: int = 2000) -> float:
@@ -207,10 +213,7 @@ def _noise_level(seeds: FloatArray, atoms: _Atoms, radius: float, sample: int = 
     pick = np.random.default_rng(0).choice(len(seeds), min(sample, len(seeds)), replace=False)
     xy = seeds[pick]
     for _ in range(2):
-        centroid, cov = _moments(xy, atoms, 3 * radius)
-        tangent, _, spread = _principal_axes(cov)
-        along = np.einsum("nd,nd->n", xy - centroid, tangent)
-        xy = centroid + along[:, None] * tangent
+        xy, tangent, _, spread = _regression_step(xy, atoms, 3 * radius)
     kurtosis = _perpendicular_kurtosis(xy, tangent, atoms, 3 * radius)
     return float(np.median(np.where(kurtosis >= NOISE_KURTOSIS, spread, 0.0)))
 
