@@ -225,8 +225,8 @@ def _cell(r: dict, m: str) -> str:
 
 
 def _seconds(r: dict, m: str) -> str:
-    t = r[m][2]
-    return "—" if t is None else f"{t:.3g}"
+    n, _, t, _ = r[m]
+    return "—" if t is None or n is None else f"{t:.3g}"  # a method not run has no time
 
 
 def _summary(rows: list[dict]) -> str:
