@@ -25,7 +25,7 @@ FIGURES = DOCS / "figures"
 def _fig2(name: str, pts: np.ndarray, eps: float) -> str:
     ordering = order_points(pts, eps)
     contour = max(ordering.contours, key=lambda c: len(c.points))
-    pyramid = decompose_contour(contour.points, contour.closed, eps, "auto")
+    pyramid = decompose_contour(contour.points, contour.closed, eps, None)
     k = max(pyramid.coarsest + 1, pyramid.finest - 3)
     save_figure(plot_levels(pts[contour.members], pyramid.coefficients[k],
                             pyramid.coefficients[k - 1], contour.closed,

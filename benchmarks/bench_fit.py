@@ -65,15 +65,16 @@ def _relative_tolerance_table() -> str:
     rows = []
     for text in ("B", "&", "S"):
         pts = sample_rings(glyph_outlines(text).rings, spacing=0.012, noise=0.01, seed=1)
-        for rel in (0.01, 0.05, 0.2, 0.5, "auto"):
+        for rel in (0.01, 0.05, 0.2, 0.5, None):
             t0 = time.perf_counter()
             res = wavepoly.fit(pts, EPS, relative_tolerance=rel)
-            rows.append([text, rel, [r.coarsest_level for r in res.reports],
+            rows.append([text, "None (auto)" if rel is None else rel,
+                         [r.coarsest_level for r in res.reports],
                          sum(r.wavelet_vertices for r in res.reports), res.n_vertices,
                          time.perf_counter() - t0])
     return ("\n### Relative tolerance (eq. 7)\n\nThe level the decomposition stops at, and what "
             "it changes. The final selection takes the ordered points as candidates too, so "
-            "the start level moves the final count by a vertex or two at most; 'auto' tries "
+            "the start level moves the final count by a vertex or two at most; None (auto) tries "
             "three start levels.\n\n" + table(["glyph", "relative tolerance", "start levels",
                                                "wavelet", "final", "seconds"], rows))
 

@@ -120,7 +120,7 @@ def _case(label: str, pts: np.ndarray, eps: float, truth: list | None) -> dict:
     res = wavepoly.fit(pts, eps)
     t_wav = time.perf_counter() - t0
     t0 = time.perf_counter()
-    auto = wavepoly.fit(pts, eps, relative_tolerance="auto")
+    auto = wavepoly.fit(pts, eps, relative_tolerance=None)
     t_auto = time.perf_counter() - t0
     ordering = order_points(pts, eps)
     lines_w = [(c.vertices, c.closed) for c in res.contours]
@@ -273,7 +273,7 @@ def run() -> str:
     return (
         "## Peers: vertices at the same tolerance\n\n"
         "Each cell: vertices (max distance of any input point to the output, in ε); "
-        "*wavepoly auto* is `fit(..., relative_tolerance=\"auto\")`. Every "
+        "*wavepoly auto* is `fit(..., relative_tolerance=None)`. Every "
         "method but the concave hull and OTR2 works on the same ordered contours (§2); *tuned* "
         "means its parameter is the largest (bisection) that keeps every input point within ε. "
         "*covering min-#*: the fewest ordered points that keep every input point within ε "

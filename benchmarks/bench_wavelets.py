@@ -19,7 +19,7 @@ def run() -> str:
             c = rng.normal(size=(wavelets.n_coefficients(level, closed), 2))
             depth = level - wavelets.MIN_LEVEL[closed]
             for cache in (wavelets.synthesis_p, wavelets.synthesis_q, wavelets.gram,
-                          wavelets._solver):
+                          wavelets.analysis_solver):
                 cache.cache_clear()
             t0 = time.perf_counter()
             wavelets.decompose(c, depth, closed=closed)

@@ -85,6 +85,12 @@ def test_douglas_peucker_runs():
     assert 10 < len(simple) < 60
 
 
-def test_size_limit():
+def test_size_limit_of_the_dense_matrix_only():
+    """The dense feasibility matrix refuses what would not fit; min_vertices never builds it."""
     with pytest.raises(ValueError, match="O\\(n\\^2\\)"):
-        min_vertices(np.zeros((20000, 2)), 0.1)
+        feasible_shortcuts(np.zeros((20000, 2)), 0.1)
+    t = np.linspace(0, 2 * np.pi, 3000, endpoint=False)
+    ring = np.column_stack([np.cos(t), np.sin(t)])
+    idx = min_vertices(ring, 1e-3, closed=True)
+    assert chord_errors(ring, idx, closed=True).max() <= 1e-3 * (1 + 1e-9)
+    assert 60 <= len(idx) <= 80  # a regular n-gon within 1e-3 of the unit circle needs 71

@@ -9,10 +9,10 @@ import xml.etree.ElementTree as ET
 import numpy as np
 import pytest
 
+from wavepoly import as_planar
 from wavepoly.errors import DataError
 from wavepoly.io import read_points, write_polygons
 from wavepoly.io.atomic import atomic_path
-from wavepoly.io.readers import as_planar
 from wavepoly.types import Contour, FitResult
 
 NOT_POINTS = {"README.md", "README.txt", "README", "LICENSE", "gpl.txt", "bun.conf"}

@@ -251,12 +251,12 @@ def test_short_run_between_gaps_does_not_close_on_itself(seed, run):
 
 @pytest.mark.parametrize("noise", [0.0, 0.004])
 def test_dense_scans_are_summarized_by_cell_atoms(noise):
-    """Dense points go through per-cell moments (`_atoms`); the contours must not change."""
-    from wavepoly.ordering import _atoms
+    """Dense points go through per-cell moments (`cell_atoms`); the contours must not change."""
+    from wavepoly.ordering.neighbourhoods import cell_atoms
 
     shape = glyph_outlines("B")
     pts = sample_rings(shape.rings, spacing=0.001, noise=noise, seed=5)
-    atoms = _atoms(pts, 0.08)
+    atoms = cell_atoms(pts, 0.08)
     assert len(atoms.xy) < len(pts) / 4 and atoms.weight.sum() == len(pts)
     ordering = order_points(pts, 0.08)
     assert len(ordering.contours) == 3 and all(c.closed for c in ordering.contours)

@@ -10,13 +10,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from wavepoly.levels import level_errors
-from wavepoly.reconstruction import (
-    _shortest,
-    own_edge_distance,
-    select_vertices,
-    storable_mask,
-    storable_runs,
-)
+from wavepoly.reconstruction import storable_mask, storable_runs
+from wavepoly.simplify import own_edge_distance, select_vertices, shortest_path
 
 
 def test_level_errors_by_hand():
@@ -61,8 +56,8 @@ def test_storable_runs_open_and_cyclic():
 def test_shortest_path_honours_min_edges():
     # 0 -> 4 is a single feasible chord, but a closed polygon needs at least three edges
     feasible = [np.ones(4 - a, bool) for a in range(4)] + [np.zeros(0, bool)]
-    assert _shortest(feasible, 0, 4).tolist() == [0, 4]
-    path = _shortest(feasible, 0, 4, min_edges=3)
+    assert shortest_path(feasible, 0, 4).tolist() == [0, 4]
+    path = shortest_path(feasible, 0, 4, min_edges=3)
     assert len(path) == 4 and path[0] == 0 and path[-1] == 4
     assert np.all(np.diff(path) > 0)
 

@@ -147,7 +147,7 @@ def test_empty_layers_are_reported_not_fatal():
     res = slice_cloud(pts, 0.1, layer_thickness=0.5, workers=1)
     empty = [la for la in res.layers if not la.fit.contours]
     assert empty and all(la.slab_points == 0 for la in empty)
-    from wavepoly.slicing import SliceResult
+    from wavepoly.types import SliceResult
 
     with pytest.raises(DataError, match="no closed contour"):
         layer_mesh(SliceResult([], np.eye(3), 0.1, False, 0))

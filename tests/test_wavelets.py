@@ -161,8 +161,8 @@ def test_analysis_inverts_synthesis(level, closed):
 @pytest.mark.parametrize("level", [10, 12])
 def test_widened_lu_equals_a_direct_factorization(level):
     """The reference level's factors, repeated, are the finer level's factors to the last bit."""
-    direct = W._OpenSolver.build(level)
-    widened = W._solver(W._REFERENCE_LEVEL, False).widened(level)
+    direct = W.OpenSolver.build(level)
+    widened = W.analysis_solver(W.REFERENCE_LEVEL, False).widened(level)
     np.testing.assert_array_equal(widened.order, direct.order)
     np.testing.assert_array_equal(widened.lu.piv, direct.lu.piv)
     np.testing.assert_allclose(widened.lu.lu, direct.lu.lu, rtol=0, atol=1e-15)

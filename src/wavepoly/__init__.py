@@ -3,7 +3,7 @@
 The method of "Constructing 2D curves from scanned data points using B-spline wavelets":
 ordering by tangent-vector neighbourhood marching (§2), cubic B-spline wavelet decomposition
 (§3) and coarse-to-fine reconstruction from multi-storable coefficients (§4), with every output
-verified against the input points.
+verified against the input points; 3D clouds are sliced into a layer model (§5).
 
 >>> import wavepoly
 >>> from wavepoly.samples import glyph_outlines, sample_rings
@@ -17,15 +17,44 @@ from importlib.metadata import PackageNotFoundError, version
 
 from .errors import DataError, ParameterError, WavepolyError
 from .fit import fit
-from .io import read_points, write_polygons
-from .ordering import order_points
-from .types import Contour, ContourReport, FitResult, OrderedContour, Ordering
+from .io import (
+    LAYER_FORMATS,
+    POLYGON_FORMATS,
+    detect_format,
+    fit_report,
+    fit_summary,
+    ordering_summary,
+    read_points,
+    slice_report,
+    slice_summary,
+    write_layers,
+    write_points,
+    write_polygons,
+    write_report,
+)
+from .ordering import curve_spacing, median_spacing, order_points
+from .slicing import slice_cloud
+from .types import (
+    DEFAULT_RELATIVE_TOLERANCE,
+    Contour,
+    ContourReport,
+    FitResult,
+    Layer,
+    OrderedContour,
+    Ordering,
+    SliceResult,
+)
+from .validate import as_planar, validate_points
 
 try:
     __version__ = version("wavepoly")
 except PackageNotFoundError:  # pragma: no cover - running from a source tree
     __version__ = "0.0.0"
 
-__all__ = ["Contour", "ContourReport", "DataError", "FitResult", "OrderedContour", "Ordering",
-           "ParameterError", "WavepolyError", "__version__", "fit", "order_points",
-           "read_points", "write_polygons"]
+__all__ = ["DEFAULT_RELATIVE_TOLERANCE", "LAYER_FORMATS", "POLYGON_FORMATS", "Contour",
+           "ContourReport", "DataError", "FitResult", "Layer", "OrderedContour", "Ordering",
+           "ParameterError", "SliceResult", "WavepolyError", "__version__", "as_planar",
+           "curve_spacing", "detect_format", "fit", "fit_report", "fit_summary",
+           "median_spacing", "order_points", "ordering_summary", "read_points", "slice_cloud",
+           "slice_report", "slice_summary", "validate_points", "write_layers", "write_points",
+           "write_polygons", "write_report"]

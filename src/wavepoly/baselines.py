@@ -1,15 +1,28 @@
-"""Reference simplifications to measure wavepoly against.
+"""Reference simplifications to measure wavepoly against (a public module for comparisons).
+
+Researchers comparing curve-reconstruction methods measure vertex counts against the optimal
+min-# answer and against Douglas-Peucker, so these live in the package, documented, rather than
+in the benchmarks alone; the benchmarks and the tests of the guarantee use them too.
 
 `min_vertices` is the optimal min-# answer: the fewest vertices, chosen among the given ordered
-points, such that every point is within the tolerance of the polyline (Imai & Iri 1988, with the
-O(n^2) feasibility test of Chan & Chin 1996). It is the limit the vertex count is measured
-against. `douglas_peucker` is shapely's simplification, as most users would run it.
+points, such that every point is within the tolerance of the polyline (Imai & Iri 1988, with
+Chan & Chin's cone test). `min_vertices_covering` is the same limit for wavepoly's guarantee:
+every *input* point within the tolerance. Both use `wavepoly.simplify`, the selection that
+wavepoly's own reconstruction uses. `douglas_peucker` is shapely's simplification, as most
+users would run it.
 
 >>> t = np.linspace(0, np.pi, 200)
 >>> arc = np.column_stack([np.cos(t), np.sin(t)])
 >>> idx = min_vertices(arc, 0.01)
 >>> bool(chord_errors(arc, idx, closed=False).max() <= 0.01), len(idx) < 20
 (True, True)
+
+References
+----------
+.. [1] H. Imai and M. Iri, "Polygonal approximations of a curve: formulations and
+   algorithms", in Computational Morphology, North-Holland, 1988, pp. 71-86.
+.. [2] D. H. Douglas and T. K. Peucker, "Algorithms for the reduction of the number of points
+   required to represent a digitized line or its caricature", Cartographica 10(2), 1973.
 """
 
 from __future__ import annotations
@@ -18,100 +31,51 @@ import numpy as np
 import shapely
 
 from .geometry import segment_distance
+from .simplify import feasible_chords, select_vertices
 from .types import FloatArray, IntArray
 
-#: Refuse feasibility matrices larger than this many points (memory grows as n^2).
+#: Refuse dense feasibility matrices of more points than this (memory grows as n^2).
 MAX_POINTS = 12000
 
 
-def _forward_feasible(points: FloatArray, tolerance: float, max_span: int) -> np.ndarray:
-    """F[i, j - i]: every point strictly between i and j is within the tolerance of the RAY i->j.
-
-    Chan & Chin's sweep: the directions from p_i that pass within the tolerance of p_k form an
-    angular interval; (i, j) is feasible when the direction of p_j lies in the intersection of
-    the intervals of i < k < j. Running max/min of the bounds gives that for all j at once.
-    """
-    n = len(points)
-    out = np.zeros((n, max_span + 1), dtype=bool)
-    for i in range(n):
-        stop = min(n, i + max_span + 1)
-        d = points[i + 1:stop] - points[i]
-        if not len(d):
-            continue
-        r = np.hypot(d[:, 0], d[:, 1])
-        theta = np.arctan2(d[:, 1], d[:, 0])
-        far = r > tolerance
-        ref = theta[np.argmax(far)] if far.any() else 0.0
-        rel = (theta - ref + np.pi) % (2 * np.pi) - np.pi
-        half = np.where(far, np.arcsin(np.minimum(tolerance / np.where(far, r, 1.0), 1.0)),
-                        np.inf)
-        lo = np.maximum.accumulate(np.where(far, rel - half, -np.inf))
-        hi = np.minimum.accumulate(np.where(far, rel + half, np.inf))
-        # j = i + 1 + m is feasible if its direction is inside the cone of points i+1 .. j-1
-        lo_prev = np.concatenate([[-np.inf], lo[:-1]])
-        hi_prev = np.concatenate([[np.inf], hi[:-1]])
-        ok = (rel >= lo_prev - 1e-12) & (rel <= hi_prev + 1e-12)
-        out[i, 1:len(ok) + 1] = ok
-    return out
+def _index_params(n: int) -> FloatArray:
+    """Each ordered point's own parameter: its index, scaled into [0, 1)."""
+    return np.arange(n) / n
 
 
 def feasible_shortcuts(points: FloatArray, tolerance: float, max_span: int | None = None
                        ) -> np.ndarray:
-    """S[i, j - i]: the segment p_i p_j is within the tolerance of every point between them."""
-    n = len(points)
+    """S[i, j - i]: the segment p_i p_j is within the tolerance of every point between them.
+
+    A dense view of `wavepoly.simplify.feasible_chords` over the ordered points themselves.
+    """
+    pts = np.asarray(points, dtype=float)
+    n = len(pts)
+    if n > MAX_POINTS:
+        raise ValueError(f"feasible_shortcuts is O(n^2) in memory: {n} points > {MAX_POINTS}")
     span = n - 1 if max_span is None else max_span
-    fwd = _forward_feasible(points, tolerance, span)
-    bwd = _forward_feasible(points[::-1], tolerance, span)
-    out = np.zeros_like(fwd)
-    for s in range(1, span + 1):  # (i, i+s) forward and (n-1-i-s, ...) backward
-        i = np.arange(n - s)
-        out[i, s] = fwd[i, s] & bwd[n - 1 - i - s, s]
+    u = _index_params(n)
+    rows = feasible_chords(pts, u, pts, u, tolerance)
+    out = np.zeros((n, span + 1), dtype=bool)
+    for i, row in enumerate(rows):
+        m = min(len(row), span)
+        out[i, 1:m + 1] = row[:m]
     return out
-
-
-def _fewest_edges(shortcuts: np.ndarray, start: int, end: int) -> IntArray:
-    """Fewest-edge path start -> end in the DAG of feasible shortcuts (indices of its vertices)."""
-    span = shortcuts.shape[1] - 1
-    count = np.full(end + 1, np.iinfo(np.int64).max // 2)
-    parent = np.full(end + 1, -1)
-    count[start] = 0
-    for j in range(start + 1, end + 1):
-        lo = max(start, j - span)
-        i = np.arange(lo, j)
-        ok = shortcuts[i, j - i]
-        cand = np.where(ok, count[lo:j], np.iinfo(np.int64).max // 2)
-        k = int(np.argmin(cand))
-        count[j], parent[j] = cand[k] + 1, lo + k
-    path = [end]
-    while path[-1] != start:
-        path.append(int(parent[path[-1]]))
-    return np.array(path[::-1], dtype=np.intp)
 
 
 def min_vertices(points: FloatArray, tolerance: float, closed: bool = False) -> IntArray:
     """Indices of the fewest points whose polyline keeps every point within ``tolerance``.
 
-    Open: the end points are kept. Closed: the best start is searched (an optimal polygon has a
-    vertex within the first edge of the polygon that starts at point 0), and the returned
+    Open: the end points are kept. Closed: the best start is searched, and the returned
     indices do not repeat the first one.
     """
     pts = np.asarray(points, dtype=float)
     n = len(pts)
-    if n > MAX_POINTS:
-        raise ValueError(f"min_vertices is O(n^2) in memory: {n} points > {MAX_POINTS}")
-    if not closed:
-        if n <= 2:
-            return np.arange(n)
-        return _fewest_edges(feasible_shortcuts(pts, tolerance), 0, n - 1)
-    doubled = np.vstack([pts, pts])
-    shortcuts = feasible_shortcuts(doubled, tolerance, max_span=n)
-    first = _fewest_edges(shortcuts, 0, n)
-    best = first
-    for s in range(1, int(first[1]) + 1 if len(first) > 1 else 1):
-        path = _fewest_edges(shortcuts, s, s + n)
-        if len(path) < len(best):
-            best = path
-    return np.sort(best[:-1] % n)
+    if n <= (3 if closed else 2):
+        return np.arange(n)
+    u = _index_params(n)
+    _, kept = select_vertices(pts, u, pts, u, closed, tolerance)
+    return np.searchsorted(u, kept)
 
 
 def min_vertices_covering(ordered: FloatArray, closed: bool, points: FloatArray,
@@ -123,8 +87,6 @@ def min_vertices_covering(ordered: FloatArray, closed: bool, points: FloatArray,
     is tied to the place along the ordered polyline it projects to; where no subset of ordered
     points can cover a point, the polyline of all ordered points is returned as is.
     """
-    from .reconstruction import select_vertices
-
     line = shapely.linearrings(ordered) if closed else shapely.linestrings(ordered)
     seg = np.linalg.norm(np.diff(np.vstack([ordered, ordered[:1]]) if closed else ordered,
                                  axis=0), axis=1)

@@ -7,7 +7,6 @@ traceback.
 
 from __future__ import annotations
 
-import json
 import sys
 from pathlib import Path
 from typing import Annotated
@@ -15,8 +14,8 @@ from typing import Annotated
 import numpy as np
 import typer
 
-from . import __version__
-from .errors import DataError, ParameterError, WavepolyError
+import wavepoly
+from wavepoly import ParameterError, WavepolyError
 
 app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
                   help="Concise polygons within a guaranteed tolerance from scanned points "
@@ -31,7 +30,7 @@ ColumnsOpt = Annotated[str | None, typer.Option(
 
 def _version(value: bool) -> None:
     if value:
-        typer.echo(f"wavepoly {__version__}")
+        typer.echo(f"wavepoly {wavepoly.__version__}")
         raise typer.Exit()
 
 
@@ -54,23 +53,18 @@ def _columns(text: str | None) -> tuple[int, ...] | None:
 
 
 def _read(path: Path, fmt: str | None, columns: str | None) -> np.ndarray:
-    from .io import read_points
-
-    return read_points(path, fmt=fmt, columns=_columns(columns))
+    return wavepoly.read_points(path, fmt=fmt, columns=_columns(columns))
 
 
 @app.command()
 def info(path: Annotated[Path, typer.Argument(help="Point file.")], fmt: FormatOpt = None,
          columns: ColumnsOpt = None) -> None:
     """Point count, dimensions, bounding box and a suggested tolerance."""
-    from .io import detect_format
-    from .ordering import median_spacing
-
     pts = _read(path, fmt, columns)
     lo, hi = pts.min(axis=0), pts.max(axis=0)
-    spacing = median_spacing(pts[:, :2]) if len(pts) > 1 else 0.0
+    spacing = wavepoly.median_spacing(pts[:, :2]) if len(pts) > 1 else 0.0
     typer.echo(f"file:       {path}")
-    typer.echo(f"format:     {fmt or detect_format(path)}")
+    typer.echo(f"format:     {fmt or wavepoly.detect_format(path)}")
     typer.echo(f"points:     {len(pts)}")
     typer.echo(f"dimensions: {pts.shape[1]}")
     axes = "xyz"[: pts.shape[1]]
@@ -88,19 +82,16 @@ def order(
     seed: int = 0, fmt: FormatOpt = None, columns: ColumnsOpt = None,
 ) -> None:
     """Order and thin unorganized points into contours (paper §2)."""
-    from .io.readers import as_planar
-    from .ordering import order_points, ordering_summary
-
-    pts = as_planar(_read(path, fmt, columns), str(path))
-    ordering = order_points(pts, radius, seed=seed)
-    typer.echo(ordering_summary(ordering, len(pts)))
+    pts = wavepoly.as_planar(_read(path, fmt, columns), str(path))
+    ordering = wavepoly.order_points(pts, radius, seed=seed)
+    typer.echo(wavepoly.ordering_summary(ordering, len(pts)))
     for note in ordering.notes:
         typer.echo(f"note: {note}")
     for k, c in enumerate(ordering.contours):
         typer.echo(f"contour {k}: {'closed' if c.closed else 'open'}, {len(c.members)} points "
                    f"-> {len(c.points)} ordered")
     if plot:
-        from .plot import plot_ordering, save_figure
+        from wavepoly.plot import plot_ordering, save_figure
 
         save_figure(plot_ordering(pts, ordering), plot)
         typer.echo(f"wrote {plot}")
@@ -122,68 +113,37 @@ def fit_command(
     seed: int = 0, fmt: FormatOpt = None, columns: ColumnsOpt = None,
 ) -> None:
     """Fit concise polygons within the tolerance (ordering, wavelets, reconstruction)."""
-    from .fit import fit
-    from .io import write_polygons
-    from .io.readers import as_planar
-    from .io.writers import POLYGON_FORMATS
-
-    if output.suffix.lstrip(".").lower() not in POLYGON_FORMATS:
+    if output.suffix.lstrip(".").lower() not in wavepoly.POLYGON_FORMATS:
         raise ParameterError(f"{output}: output must end in one of "
-                             f"{', '.join('.' + f for f in POLYGON_FORMATS)}")
-    rel = relative_tolerance if relative_tolerance == "auto" else _number(
-        relative_tolerance, "--relative-tolerance")
-    pts = as_planar(_read(path, fmt, columns), str(path))
+                             f"{', '.join('.' + f for f in wavepoly.POLYGON_FORMATS)}")
+    rel = _relative_tolerance(relative_tolerance)
+    pts = wavepoly.as_planar(_read(path, fmt, columns), str(path))
     with _progress("fitting contours") as progress:
-        result = fit(pts, tolerance, relative_tolerance=rel, radius=radius, seed=seed,
-                     progress=progress)
-    write_polygons(output, result)
-    _summarize(result)
+        result = wavepoly.fit(pts, tolerance, relative_tolerance=rel, radius=radius, seed=seed,
+                              progress=progress)
+    wavepoly.write_polygons(output, result)
+    for line in wavepoly.fit_summary(result):
+        typer.echo(line)
     typer.echo(f"wrote {output}")
     if report:
-        from .io.atomic import write_text_atomic
-
-        write_text_atomic(report, json.dumps(fit_report(result, str(path)), indent=2))
+        wavepoly.write_report(report, wavepoly.fit_report(result, str(path)))
         typer.echo(f"wrote {report}")
     if plot:
-        from .plot import plot_fit, save_figure
+        from wavepoly.plot import plot_fit, save_figure
 
         save_figure(plot_fit(pts, result), plot)
         typer.echo(f"wrote {plot}")
 
 
-def _number(text: str, name: str) -> float:
+def _relative_tolerance(text: str) -> float | None:
+    """``--relative-tolerance``: a number, or 'auto' (None: the fit chooses the level)."""
+    if text.strip().lower() == "auto":
+        return None
     try:
         return float(text)
     except ValueError:
-        raise ParameterError(f"{name} must be a number or 'auto', got {text!r}") from None
-
-
-def fit_report(result, source: str) -> dict:
-    """The JSON report of a fit: per contour figures, timings, outliers and notes."""
-    from dataclasses import asdict
-
-    return {
-        "input": source, "points": result.n_points, "tolerance": result.tolerance,
-        "max_error": result.max_error, "mean_error": result.mean_error,
-        "contours": [{**asdict(r), "mscs_per_level": {str(k): v for k, v in
-                                                       r.mscs_per_level.items()}}
-                     for r in result.reports],
-        "vertices": result.n_vertices, "outliers": len(result.outliers),
-        "outlier_indices": result.outliers.tolist(), "timings": result.timings,
-        "notes": list(result.notes),
-    }
-
-
-def _summarize(result) -> None:
-    for k, (c, r) in enumerate(zip(result.contours, result.reports)):
-        typer.echo(f"contour {k}: {'closed' if c.closed else 'open  '} {r.input_points:7d} points"
-                   f" -> {r.ordered_points:6d} ordered -> {r.wavelet_vertices:5d} wavelet -> "
-                   f"{r.final_vertices:4d} vertices, max error {c.max_error:.4g}")
-    typer.echo(f"{result.n_points} points -> {len(result.contours)} contours, "
-               f"{result.n_vertices} vertices, max error {result.max_error:.4g} "
-               f"(tolerance {result.tolerance:.4g}), {len(result.outliers)} outliers")
-    for note in result.notes:
-        typer.echo(f"note: {note}")
+        raise ParameterError(f"--relative-tolerance must be a number or 'auto', "
+                             f"got {text!r}") from None
 
 
 class _progress:
@@ -236,32 +196,28 @@ def slice_command(
     fmt: FormatOpt = None, columns: ColumnsOpt = None,
 ) -> None:
     """Slice a 3D cloud into layers, fit each layer's contours, write the layer model."""
-    from .io.layers import LAYER_FORMATS, write_layers
-    from .slicing import slice_cloud, summary
-
-    if output.suffix.lstrip(".").lower() not in LAYER_FORMATS:
+    if output.suffix.lstrip(".").lower() not in wavepoly.LAYER_FORMATS:
         raise ParameterError(f"{output}: output must end in one of "
-                             f"{', '.join('.' + f for f in LAYER_FORMATS)}")
+                             f"{', '.join('.' + f for f in wavepoly.LAYER_FORMATS)}")
     if (layer is None) == (not adaptive):
         raise ParameterError("give either --layer THICKNESS or --adaptive")
     direction = axis if axis.lower() in ("x", "y", "z") else _vector(axis)
     pts = _read(path, fmt, columns)
     with _progress("fitting layers") as progress:
-        result = slice_cloud(pts, tolerance, axis=direction, layer_thickness=layer,
-                             adaptive=adaptive, min_layer=min_layer, max_layer=max_layer,
-                             band=band, workers=workers, progress=progress)
-    write_layers(output, result, units=units)
-    typer.echo(summary(result))
+        result = wavepoly.slice_cloud(pts, tolerance, axis=direction, layer_thickness=layer,
+                                      adaptive=adaptive, min_layer=min_layer,
+                                      max_layer=max_layer, band=band, workers=workers,
+                                      progress=progress)
+    wavepoly.write_layers(output, result, units=units)
+    typer.echo(wavepoly.slice_summary(result))
     for note in result.notes:
         typer.echo(f"note: {note}")
     typer.echo(f"wrote {output}")
     if report:
-        from .io.atomic import write_text_atomic
-
-        write_text_atomic(report, json.dumps(slice_report(result, str(path)), indent=2))
+        wavepoly.write_report(report, wavepoly.slice_report(result, str(path)))
         typer.echo(f"wrote {report}")
     if plot:
-        from .plot import plot_contact_sheet, plot_layer_model, save_figure
+        from wavepoly.plot import plot_contact_sheet, plot_layer_model, save_figure
 
         save_figure(plot_layer_model(result), plot)
         sheet = plot.with_name(plot.stem + "-layers" + plot.suffix)
@@ -279,29 +235,11 @@ def _vector(text: str) -> tuple[float, float, float]:
     return values  # type: ignore[return-value]
 
 
-def slice_report(result, source: str) -> dict:
-    """The JSON report of a slicing: per layer heights, thickness, contours, errors."""
-    return {
-        "input": source, "points": result.n_points, "tolerance": result.tolerance,
-        "adaptive": result.adaptive, "layers": len(result.layers),
-        "model_error": result.model_error, "vertices": result.n_vertices,
-        "per_layer": [{"bottom": la.bottom, "thickness": la.thickness, "z": la.z,
-                       "band_points": la.fit.n_points, "slab_points": la.slab_points,
-                       "contours": len(la.fit.contours),
-                       "closed": sum(c.closed for c in la.fit.contours),
-                       "vertices": la.fit.n_vertices, "fit_max_error": la.fit.max_error,
-                       "model_error": la.model_error if np.isfinite(la.model_error) else None,
-                       "outliers": len(la.fit.outliers), "notes": list(la.fit.notes)}
-                      for la in result.layers],
-        "timings": result.timings, "notes": list(result.notes),
-    }
-
-
 @app.command()
 def demo(out: Annotated[Path, typer.Option("--out", help="Output folder.")] = Path(
         "wavepoly-demo")) -> None:
     """Fit built-in glyph outlines (noisy scan-like samples) and write polygons and figures."""
-    from .demo import run_demo
+    from wavepoly.demo import run_demo
 
     run_demo(out, echo=typer.echo)
 
@@ -330,4 +268,4 @@ def main() -> None:
         sys.exit(1)
 
 
-__all__ = ["app", "main", "DataError"]
+__all__ = ["app", "main"]

@@ -7,19 +7,17 @@ scale of the paper's first example (a ~20 mm part, tolerance 0.08 mm).
 
 from __future__ import annotations
 
-import json
 import time
 from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 
-from .fit import fit
-from .io import write_polygons
-from .io.atomic import atomic_path, write_text_atomic
-from .levels import decompose_contour
-from .ordering import order_points
-from .samples import glyph_outlines, sample_rings
+import wavepoly
+from wavepoly.levels import decompose_contour
+from wavepoly.plot import plot_fit, plot_levels, plot_mscs, plot_ordering, save_figure
+from wavepoly.reconstruction import reconstruct_contour
+from wavepoly.samples import glyph_outlines, sample_rings
 
 DEMO_TEXT = "B8&k"
 DEMO_TOLERANCE = 0.08  # mm, the paper's first example
@@ -35,17 +33,13 @@ def demo_points(seed: int = 7) -> np.ndarray:
 
 def run_demo(out: Path, echo: Callable[[str], None] = print) -> None:
     """Fit the demo points and write input, polygons, report and figures into ``out``."""
-    from .cli import fit_report
-    from .plot import plot_fit, plot_levels, plot_mscs, plot_ordering, save_figure
-
     out.mkdir(parents=True, exist_ok=True)
     pts = demo_points()
     echo(f"demo: {len(pts)} noisy points on the outlines of {DEMO_TEXT!r} (DejaVu Sans, 20 mm),"
          f" tolerance {DEMO_TOLERANCE} mm")
-    with atomic_path(out / "input-points.xy") as tmp:
-        np.savetxt(tmp, pts, fmt="%.6f", header="x y (mm): wavepoly demo input")
+    wavepoly.write_points(out / "input-points.xy", pts, header="x y (mm): wavepoly demo input")
     t0 = time.perf_counter()
-    result = fit(pts, DEMO_TOLERANCE)
+    result = wavepoly.fit(pts, DEMO_TOLERANCE)
     elapsed = time.perf_counter() - t0
     for k, (c, r) in enumerate(zip(result.contours, result.reports)):
         echo(f"contour {k}: {'closed' if c.closed else 'open'}, {r.input_points} points -> "
@@ -56,19 +50,18 @@ def run_demo(out: Path, echo: Callable[[str], None] = print) -> None:
          f"contours, max error {result.max_error:.4f} mm <= {DEMO_TOLERANCE} mm, "
          f"{len(result.outliers)} outliers, {elapsed:.2f} s")
     for name in ("polygons.svg", "polygons.geojson", "polygons.dxf"):
-        write_polygons(out / name, result)
-    write_text_atomic(out / "report.json", json.dumps(fit_report(result, "demo"), indent=2))
+        wavepoly.write_polygons(out / name, result)
+    wavepoly.write_report(out / "report.json", wavepoly.fit_report(result, "demo"))
     save_figure(plot_fit(pts, result), out / "fit.png")
-    ordering = order_points(pts, DEMO_TOLERANCE)
+    ordering = wavepoly.order_points(pts, DEMO_TOLERANCE)
     save_figure(plot_ordering(pts, ordering), out / "ordering.png")
-    _level_figures(pts, ordering, out, save_figure, plot_levels, plot_mscs)
+    _level_figures(pts, ordering, out)
     echo(f"wrote {out}/: input-points.xy polygons.svg polygons.geojson polygons.dxf "
          "report.json fit.png ordering.png levels.png mscs.png")
 
 
-def _level_figures(pts, ordering, out, save_figure, plot_levels, plot_mscs) -> None:
-    from .reconstruction import reconstruct_contour
-
+def _level_figures(pts: np.ndarray, ordering: wavepoly.Ordering, out: Path) -> None:
+    """Fig. 2 (two levels) and Fig. 3-4 (MSCs) of the demo's longest contour."""
     contour = max(ordering.contours, key=lambda c: len(c.points))
     members = pts[contour.members]
     pyramid = decompose_contour(contour.points, contour.closed, DEMO_TOLERANCE)

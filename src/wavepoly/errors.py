@@ -13,14 +13,3 @@ class DataError(WavepolyError, ValueError):
 
 class ParameterError(WavepolyError, ValueError):
     """A parameter is out of its domain (a tolerance <= 0, a wrong level count, ...)."""
-
-
-def check_tolerance(tolerance: float, name: str = "tolerance") -> float:
-    """Return ``tolerance`` as a float, or raise `ParameterError` unless it is finite and > 0."""
-    try:
-        value = float(tolerance)
-    except (TypeError, ValueError):
-        raise ParameterError(f"{name} must be a number, got {tolerance!r}") from None
-    if not value > 0 or value == float("inf"):
-        raise ParameterError(f"{name} must be a finite number > 0, got {tolerance!r}")
-    return value

@@ -14,19 +14,29 @@ from collections.abc import Callable
 
 import numpy as np
 
-from .errors import ParameterError, check_tolerance
+from .errors import ParameterError
 from .geometry import nest_contours, orient_by_depth
-from .io.readers import validate_points
-from .levels import AUTO, Pyramid, decompose_contour
+from .levels import decompose_contour
 from .ordering import order_points
-from .reconstruction import Reconstruction, reconstruct_contour
-from .types import Contour, ContourReport, FitResult, FloatArray, OrderedContour
+from .reconstruction import reconstruct_contour
+from .types import (
+    DEFAULT_RELATIVE_TOLERANCE,
+    Contour,
+    ContourReport,
+    FitResult,
+    FloatArray,
+    OrderedContour,
+    Pyramid,
+    Reconstruction,
+    within,
+)
+from .validate import check_relative_tolerance, check_tolerance, validate_points
 
-DEFAULT_RELATIVE_TOLERANCE = 0.05  # eq. 7 threshold; the paper leaves it to the user
+STAGES = ("ordering", "decomposition", "reconstruction", "verification")
 
 
 def fit(points: FloatArray, tolerance: float, *,
-        relative_tolerance: float | str = DEFAULT_RELATIVE_TOLERANCE,
+        relative_tolerance: float | None = DEFAULT_RELATIVE_TOLERANCE,
         radius: float | None = None, seed: int = 0,
         progress: Callable[[int, int], None] | None = None) -> FitResult:
     """Concise polygons within ``tolerance`` of unorganized planar points.
@@ -37,8 +47,8 @@ def fit(points: FloatArray, tolerance: float, *,
     tolerance : shape tolerance, in the points' units: every input point that is not an outlier
         ends within this distance of the output.
     relative_tolerance : threshold of the relative shape error (eq. 7) that stops the
-        decomposition, or ``"auto"`` to try a few starting levels (`auto_start_levels`) and
-        keep the fewest vertices.
+        decomposition, or None to try a few starting levels (`auto_start_levels`) and keep the
+        fewest vertices.
     radius : neighbourhood radius of the ordering stage (default: ``tolerance``).
     seed : seed of the ordering's random choices.
     progress : called as ``progress(done, total)`` after each contour.
@@ -51,19 +61,19 @@ def fit(points: FloatArray, tolerance: float, *,
     if pts.shape[1] != 2:
         raise ParameterError("fit takes (N, 2) planar points; slice 3D clouds with slice_cloud")
     tolerance = check_tolerance(tolerance)
-    if relative_tolerance != AUTO:
-        relative_tolerance = check_tolerance(relative_tolerance, "relative_tolerance")
+    relative_tolerance = check_relative_tolerance(relative_tolerance)
     radius = tolerance if radius is None else check_tolerance(radius, "radius")
-    timings = {"ordering": 0.0, "decomposition": 0.0, "reconstruction": 0.0,
-               "verification": 0.0}
+    timings = dict.fromkeys(STAGES, 0.0)
     t0 = time.perf_counter()
     ordering = order_points(pts, radius, seed=seed)
     timings["ordering"] = time.perf_counter() - t0
     contours, reports = [], []
     for k, oc in enumerate(ordering.contours):
-        contour, report = fit_contour(pts, oc, tolerance, relative_tolerance, timings)
+        contour, report, times = fit_contour(pts, oc, tolerance, relative_tolerance)
         contours.append(contour)
         reports.append(report)
+        for stage, seconds in times.items():
+            timings[stage] += seconds
         if progress:
             progress(k + 1, len(ordering.contours))
     t0 = time.perf_counter()
@@ -82,17 +92,19 @@ def fit(points: FloatArray, tolerance: float, *,
 
 
 def fit_contour(points: FloatArray, oc: OrderedContour, tolerance: float,
-                relative_tolerance: float | str, timings: dict[str, float]
-                ) -> tuple[Contour, ContourReport]:
-    """Decompose and reconstruct one ordered contour; the result is verified within tolerance."""
+                relative_tolerance: float | None
+                ) -> tuple[Contour, ContourReport, dict[str, float]]:
+    """Decompose (§3) and reconstruct (§4) one ordered contour, verified within tolerance.
+
+    Returns the contour, its report and the seconds spent in each stage.
+    """
     members = points[oc.members]
     t0 = time.perf_counter()
     pyramid = decompose_contour(oc.points, oc.closed, tolerance, relative_tolerance)
-    timings["decomposition"] += time.perf_counter() - t0
-    t0 = time.perf_counter()
+    t1 = time.perf_counter()
     rec = _best_reconstruction(pyramid, oc.points, members, tolerance, relative_tolerance)
-    timings["reconstruction"] += time.perf_counter() - t0
-    if rec.max_error > tolerance * (1 + 1e-9):  # the repair makes this impossible; never hide it
+    times = {"decomposition": t1 - t0, "reconstruction": time.perf_counter() - t1}
+    if not within(rec.max_error, tolerance):  # the repair makes this impossible; never hide it
         raise RuntimeError(f"internal error: contour error {rec.max_error} > {tolerance}")
     contour = Contour(rec.vertices, oc.closed, rec.max_error, rec.mean_error)
     report = ContourReport(
@@ -101,12 +113,12 @@ def fit_contour(points: FloatArray, oc: OrderedContour, tolerance: float,
         coarsest_level=rec.start_level, mscs_per_level=rec.mscs_per_level,
         wavelet_vertices=rec.wavelet_vertices, final_vertices=len(rec.vertices),
         max_error=rec.max_error, mean_error=rec.mean_error)
-    return contour, report
+    return contour, report, times
 
 
 def _best_reconstruction(pyramid: Pyramid, ordered: FloatArray, members: FloatArray,
-                         tolerance: float, relative_tolerance: float | str) -> Reconstruction:
-    if relative_tolerance != AUTO:
+                         tolerance: float, relative_tolerance: float | None) -> Reconstruction:
+    if relative_tolerance is not None:
         return reconstruct_contour(pyramid, ordered, members, tolerance)
     best = None
     for level in auto_start_levels(pyramid, tolerance):
@@ -118,7 +130,7 @@ def _best_reconstruction(pyramid: Pyramid, ordered: FloatArray, members: FloatAr
 
 
 def auto_start_levels(pyramid: Pyramid, tolerance: float) -> list[int]:
-    """Start levels that ``relative_tolerance="auto"`` tries: the coarsest, the one that the
+    """Start levels that ``relative_tolerance=None`` tries: the coarsest, the one that the
     default relative tolerance (eq. 7) picks, and the level between them.
 
     Trying every level costs one reconstruction each for rarely more than a vertex or two (the

@@ -10,53 +10,12 @@ least-squares fit would smooth them (see the wavelets note for the measured erro
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
 
 from . import wavelets
 from .errors import ParameterError
 from .geometry import nearest_segment, polyline_segments
-from .types import FloatArray, IntArray
-
-#: ``relative_tolerance="auto"``: choose the coarsest level that gives the fewest vertices.
-AUTO = "auto"
-
-
-@dataclass(frozen=True)
-class LevelErrors:
-    """Eq. 6-7 at one level: per segment of the coarse control polygon."""
-
-    level: int
-    shape: FloatArray  # E_i(s): largest distance of the segment's ordered points
-    relative: FloatArray  # E_i(r) = E_i(s) / length(S_i)
-
-    def violates(self, tolerance: float, relative_tolerance: float) -> bool:
-        """True when some segment breaks both the shape and the relative tolerance (§3)."""
-        return bool(np.any((self.shape > tolerance) & (self.relative > relative_tolerance)))
-
-
-@dataclass(frozen=True)
-class Pyramid:
-    """The wavelet levels of one contour.
-
-    coefficients[j]: control points at level j, for coarsest <= j <= finest.
-    details[j]: wavelet coefficients d[j] that lift level j to j + 1 (eq. 11).
-    fine_index: position of each ordered point among the finest level's control points.
-    errors: eq. 6-7 figures of each level that was examined.
-    """
-
-    closed: bool
-    finest: int
-    coarsest: int
-    coefficients: dict[int, FloatArray]
-    details: dict[int, FloatArray]
-    fine_index: IntArray
-    errors: dict[int, LevelErrors] = field(default_factory=dict)
-
-    @property
-    def levels_decomposed(self) -> int:
-        return self.finest - self.coarsest
+from .types import DEFAULT_RELATIVE_TOLERANCE, FloatArray, IntArray, LevelErrors, Pyramid
 
 
 def finest_level(n_points: int, closed: bool) -> int:
@@ -127,14 +86,14 @@ def level_errors(ordered: FloatArray, coarse: FloatArray, closed: bool, level: i
 
 
 def decompose_contour(ordered: FloatArray, closed: bool, tolerance: float,
-                      relative_tolerance: float | str = 0.05) -> Pyramid:
+                      relative_tolerance: float | None = DEFAULT_RELATIVE_TOLERANCE) -> Pyramid:
     """Decompose an ordered contour level by level and choose the coarsest level (paper §3).
 
     At each level the eq. 6-7 errors of the coarse control polygon are measured against the
     ordered points; the decomposition stops at the first level where a segment violates both
     ``tolerance`` and ``relative_tolerance``, and the level above it is the coarsest. With
-    ``relative_tolerance="auto"`` it goes down to the coarsest level the wavelets allow, and the
-    reconstruction stage picks the starting level (`wavepoly.reconstruction`).
+    ``relative_tolerance=None`` it goes down to the coarsest level the wavelets allow, and the
+    fit picks the starting level (`wavepoly.fit.auto_start_levels`).
 
     Every level's coefficients and details are kept for the reconstruction stage.
     """
@@ -145,7 +104,7 @@ def decompose_contour(ordered: FloatArray, closed: bool, tolerance: float,
     while level > wavelets.MIN_LEVEL[closed]:
         coarse, d = wavelets.analyze(c, closed)
         errs = level_errors(ordered, coarse, closed, level - 1)
-        if relative_tolerance != AUTO and errs.violates(tolerance, float(relative_tolerance)):
+        if relative_tolerance is not None and errs.violates(tolerance, relative_tolerance):
             break
         level, c = level - 1, coarse
         coefficients[level], details[level], errors[level] = coarse, d, errs

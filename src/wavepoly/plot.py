@@ -2,32 +2,29 @@
 (Fig. 2), MSCs per level (Fig. 3-4) and the final polygon over the raw points (Fig. 6).
 
 Each function draws on a matplotlib Axes (a new figure when none is given) and returns it;
-`save_figure` writes a figure atomically.
+`save_figure` writes a figure atomically. New figures are `matplotlib.figure.Figure` objects
+made without pyplot, so importing this module chooses no backend and opens no window: a file
+is rendered by the canvas of its format when it is saved, and in a notebook the caller passes
+``ax=`` from its own figure.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import matplotlib
+import numpy as np
+from matplotlib.figure import Figure
 
-matplotlib.use("Agg")  # figures are written to files; never needs a display
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+from .io.atomic import atomic_path
+from .types import FitResult, FloatArray, Ordering, SliceResult
 
-from .io.atomic import atomic_path  # noqa: E402
-from .types import FitResult, FloatArray, Ordering  # noqa: E402
-
-if TYPE_CHECKING:
-    from .slicing import SliceResult
-
-_COLOURS = plt.get_cmap("tab10").colors
+_COLOURS = matplotlib.colormaps["tab10"].colors
 
 
 def _axes(ax=None, title: str | None = None):
     if ax is None:
-        _, ax = plt.subplots(figsize=(8, 8))
+        ax = Figure(figsize=(8, 8)).add_subplot()
     ax.set_aspect("equal")
     if title:
         ax.set_title(title, fontsize=10)
@@ -110,10 +107,10 @@ def plot_mscs(points: FloatArray, mscs_by_level: dict[int, list[FloatArray]], cl
 
 def plot_layer_model(result: SliceResult, max_layers: int = 400):
     """Fig. 7e: the layer model in 3D, each layer's contours drawn at its bottom and top."""
-    fig = plt.figure(figsize=(8, 8))
+    fig = Figure(figsize=(8, 8))
     ax = fig.add_subplot(projection="3d")
     step = max(1, len(result.layers) // max_layers)
-    cmap = plt.get_cmap("viridis")
+    cmap = matplotlib.colormaps["viridis"]
     for k, layer in enumerate(result.layers[::step]):
         colour = cmap(k * step / max(1, len(result.layers) - 1))
         for c in layer.fit.contours:
@@ -140,7 +137,8 @@ def plot_contact_sheet(result: SliceResult, max_panels: int = 36):
                                   min(max_panels, len(result.layers))).astype(int))
     cols = int(np.ceil(np.sqrt(len(picks))))
     rows = int(np.ceil(len(picks) / cols))
-    fig, axes = plt.subplots(rows, cols, figsize=(2.5 * cols, 2.5 * rows), squeeze=False)
+    fig = Figure(figsize=(2.5 * cols, 2.5 * rows))
+    axes = fig.subplots(rows, cols, squeeze=False)
     for ax in axes.ravel():
         ax.set_axis_off()
     for ax, k in zip(axes.ravel(), picks):
@@ -154,9 +152,8 @@ def plot_contact_sheet(result: SliceResult, max_panels: int = 36):
 
 
 def save_figure(ax_or_fig, path: str | Path, dpi: int = 150) -> None:
-    """Write the figure of ``ax_or_fig`` to ``path`` (format from the extension) and close it."""
+    """Write the figure of ``ax_or_fig`` to ``path`` (format from the extension)."""
     fig = ax_or_fig if hasattr(ax_or_fig, "savefig") else ax_or_fig.figure
     suffix = Path(path).suffix.lstrip(".") or "png"
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=dpi, bbox_inches="tight", format=suffix)
-    plt.close(fig)

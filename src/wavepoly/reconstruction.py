@@ -13,8 +13,8 @@ an MSC", "between two MSCs" and "the edge that stands for a point" are compariso
 The polygon is then made honest: every data point of the contour is measured against the edge
 that stands for it (which bounds its distance to the polygon), and wherever the tolerance
 breaks, the finest-level point (or, failing that, the data point itself) that restores it is
-inserted. Finally the fewest of those vertices that keep every point within the tolerance are
-chosen (a shortest path over feasible chords, `select_vertices`).
+inserted. Finally the fewest of those vertices and the ordered points that keep every point within
+the tolerance are chosen (`wavepoly.simplify.select_vertices`).
 """
 
 from __future__ import annotations
@@ -22,54 +22,23 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.ndimage import maximum_filter1d
 from scipy.spatial import cKDTree
 
 from . import wavelets
-from .geometry import hull_candidates, nearest_segment, polyline_distance, segment_distance
-from .levels import Pyramid
-from .types import FloatArray, IntArray
+from .geometry import nearest_segment, polyline_distance, segment_distance
+from .simplify import edge_of, own_edge_distance, select_vertices
+from .types import SLACK, FloatArray, IntArray, Msc, Pyramid, Reconstruction
 
-#: Relative slack on the tolerance for floating-point round-off in distance computations.
-SLACK = 1e-9
-
-
-@dataclass(frozen=True)
-class Msc:
-    """A multi-storable coefficient run: inner coefficients ``first..last`` of ``level``.
-
-    start / span: parameter interval covered (span may wrap past 1 on a closed contour).
-    """
-
-    level: int
-    first: int
-    last: int
-    start: float
-    span: float
-    points: FloatArray
-    params: FloatArray
-
-
-@dataclass(frozen=True)
-class Reconstruction:
-    """The polygon of one contour and how it was made."""
-
-    vertices: FloatArray
-    params: FloatArray
-    closed: bool
-    mscs: list[Msc]
-    start_level: int
-    wavelet_vertices: int  # after MSC assembly and repair, before the selection
-    max_error: float
-    mean_error: float
-
-    @property
-    def mscs_per_level(self) -> dict[int, int]:
-        out: dict[int, int] = {}
-        for m in self.mscs:
-            out[m.level] = out.get(m.level, 0) + 1
-        return out
-
+#: Parameters this close (relative to the finest level's spacing) are ties at one vertex.
+PARAM_TIE = 1e-9
+#: Arc lengths this close (relative to the polyline's length) put a point at a vertex.
+AT_VERTEX = 1e-12
+#: Parameter round-off allowed at an MSC's ends (parameters live in [0, 1]).
+MSC_END_SLACK = 1e-12
+#: An ordered point this close to a vertex is that vertex (not a new candidate).
+SAME_POINT = 1e-12
+#: Fewest storable coefficients in a run that makes an MSC (two ends and two inner ones, §4.1).
+MIN_RUN = 4
 
 def point_parameters(points: FloatArray, pyramid: Pyramid) -> FloatArray:
     """Curve parameter of each data point: its projection on the finest control polygon.
@@ -87,9 +56,9 @@ def point_parameters(points: FloatArray, pyramid: Pyramid) -> FloatArray:
     arc = np.concatenate([[0.0], np.cumsum(length)])
     s = _locate(points, cp, arc)
     param = np.interp(s, arc, u)
-    delta = 1e-9 * float(np.diff(u).min(initial=1.0))
+    delta = PARAM_TIE * float(np.diff(u).min(initial=1.0))
     at = np.clip(np.searchsorted(arc, s), 0, len(arc) - 1)
-    near = np.abs(arc[at] - s) <= 1e-12 * arc[-1]
+    near = np.abs(arc[at] - s) <= AT_VERTEX * arc[-1]
     m = len(arc) - 1  # segments; on a closed contour vertex m is vertex 0 again
     inner = near if pyramid.closed else near & (at > 0) & (at < m)
     if inner.any():
@@ -188,7 +157,7 @@ def storable_mask(points: FloatArray, coeffs: FloatArray, closed: bool, toleranc
     return np.bincount(owner, weights=bad, minlength=len(coeffs)) == 0, owner
 
 
-def storable_runs(candidate: np.ndarray, closed: bool, min_run: int = 4) -> list[IntArray]:
+def storable_runs(candidate: np.ndarray, closed: bool, min_run: int = MIN_RUN) -> list[IntArray]:
     """Index runs of at least ``min_run`` consecutive True values (cyclic when ``closed``)."""
     m = len(candidate)
     if closed and candidate.all():
@@ -207,19 +176,20 @@ def _inside(u: FloatArray, mscs: list[Msc], closed: bool) -> np.ndarray:
     mask = np.zeros(len(u), dtype=bool)
     for msc in mscs:
         if closed:
-            mask |= np.mod(u - msc.start, 1.0) <= msc.span + 1e-12
+            mask |= np.mod(u - msc.start, 1.0) <= msc.span + MSC_END_SLACK
         else:
-            mask |= (u >= msc.start - 1e-12) & (u <= msc.start + msc.span + 1e-12)
+            mask |= ((u >= msc.start - MSC_END_SLACK)
+                     & (u <= msc.start + msc.span + MSC_END_SLACK))
     return mask
 
 
-def extract_mscs(points: FloatArray, alive: np.ndarray, coeffs: FloatArray, level: int,
-                 closed: bool, tolerance: float, gdl: list[Msc]) -> list[Msc]:
-    """One level of §4: new MSCs between the updated ones, and eq. 10 deletions in ``alive``."""
+def extract_mscs(points: FloatArray, coeffs: FloatArray, level: int, closed: bool,
+                 tolerance: float, gdl: list[Msc]) -> tuple[list[Msc], np.ndarray]:
+    """One level of §4: new MSCs between the updated ones (those of ``gdl``), and which of the
+    live data ``points`` they cover (eq. 10: to be deleted from the working set)."""
     u = wavelets.greville(level, closed)
     searchable = ~_inside(u, gdl, closed)
-    idx_alive = np.flatnonzero(alive)
-    storable, owner = storable_mask(points[idx_alive], coeffs, closed, tolerance)
+    storable, owner = storable_mask(points, coeffs, closed, tolerance)
     new: list[Msc] = []
     run_id = np.full(len(coeffs), -1)
     for run in storable_runs(storable & searchable, closed):
@@ -229,23 +199,27 @@ def extract_mscs(points: FloatArray, alive: np.ndarray, coeffs: FloatArray, leve
             np.mod(u[inner[-1]] - u[inner[0]], 1.0) if closed else u[inner[-1]] - u[inner[0]])
         new.append(Msc(level, int(inner[0]), int(inner[-1]), float(u[inner[0]]), float(span),
                        coeffs[inner], u[inner]))
-    if new and len(idx_alive):
-        _delete_covered(points, idx_alive, owner, coeffs, run_id, closed, tolerance, alive)
-    return new
+    covered = np.zeros(len(points), dtype=bool)
+    if new and len(points):
+        covered = _covered(points, owner, coeffs, run_id, closed, tolerance)
+    return new, covered
 
 
-def _delete_covered(points, idx_alive, owner, coeffs, run_id, closed, tolerance, alive):
-    """Eq. 10: delete the points of an MSC's coefficients within tolerance of its segments."""
+def _covered(points: FloatArray, owner: IntArray, coeffs: FloatArray, run_id: IntArray,
+             closed: bool, tolerance: float) -> np.ndarray:
+    """Eq. 10: the points of an MSC's coefficients within tolerance of its segments."""
     m = len(coeffs)
     in_run = run_id[owner] >= 0
-    pts, own = points[idx_alive[in_run]], owner[in_run]
+    pts, own = points[in_run], owner[in_run]
     d_prev, d_next = _neighbour_distances(pts, own, coeffs, closed)
     prev = (own - 1) % m if closed else np.maximum(own - 1, 0)
     nxt = (own + 1) % m if closed else np.minimum(own + 1, m - 1)
     same_prev = (run_id[prev] == run_id[own]) & (prev != own)
     same_next = (run_id[nxt] == run_id[own]) & (nxt != own)
     d = np.minimum(np.where(same_prev, d_prev, np.inf), np.where(same_next, d_next, np.inf))
-    alive[idx_alive[in_run][d <= tolerance * (1 + SLACK)]] = False
+    covered = np.zeros(len(points), dtype=bool)
+    covered[np.flatnonzero(in_run)[d <= tolerance * (1 + SLACK)]] = True
+    return covered
 
 
 # ---------------------------------------------------------------------------------------------
@@ -267,24 +241,25 @@ def reconstruct_contour(pyramid: Pyramid, ordered: FloatArray, points: FloatArra
     closed = pyramid.closed
     level = pyramid.coarsest if start_level is None else start_level
     params = point_parameters(points, pyramid)
-    alive = np.ones(len(points), dtype=bool)
+    live = np.arange(len(points))  # the working set of data points (eq. 10 deletes from it)
     gdl: list[Msc] = []
     coeffs = pyramid.coefficients[level]
     while True:
-        gdl += extract_mscs(points, alive, coeffs, level, closed, tolerance, gdl)
-        if not alive.any() or level == pyramid.finest:
+        new, covered = extract_mscs(points[live], coeffs, level, closed, tolerance, gdl)
+        gdl, live = gdl + new, live[~covered]
+        if not len(live) or level == pyramid.finest:
             break
         coeffs = wavelets.synthesize(coeffs, pyramid.details[level], closed)  # eq. 11
         level += 1
     fine_u = wavelets.greville(pyramid.finest, closed)[pyramid.fine_index]
-    vertices, vparams = _assemble(gdl, ordered, fine_u, params[alive], closed)
-    vertices, vparams = _repair(vertices, vparams, ordered, fine_u, points, params, closed,
-                                tolerance)
+    contour = _ContourData(points, params, ordered, fine_u, closed, tolerance)
+    vertices, vparams = _assemble(gdl, ordered, fine_u, params[live], closed)
+    vertices, vparams = _repair(contour, vertices, vparams)
     n_wavelet = len(vertices)
     # the ordered points join the candidates, so the choice is never worse than the best
     # subset of ordered points; the wavelet coefficients add smoothed candidates to it
     # (an ordered point at a vertex's parameter is still new unless it is that very vertex)
-    gap, _ = cKDTree(vertices).query(ordered, distance_upper_bound=1e-12)
+    gap, _ = cKDTree(vertices).query(ordered, distance_upper_bound=SAME_POINT)
     extra = ~(np.isfinite(gap) & np.isin(fine_u, vparams))
     cand = np.vstack([vertices, ordered[extra]])
     cand_u = np.concatenate([vparams, fine_u[extra]])
@@ -333,28 +308,21 @@ def _gap_has_data(u: FloatArray, alive_u: FloatArray, gdl: list[Msc]) -> np.ndar
     return live[gap_of_u]
 
 
-def _edge_of(vparams: FloatArray, params: FloatArray, closed: bool) -> IntArray:
-    """Index of the polygon edge (vertex i to i+1) whose parameter span holds each point."""
-    k = len(vparams)
-    key = np.mod(vparams, 1.0) if closed else vparams
-    e = np.searchsorted(key, np.mod(params, 1.0) if closed else params, side="right") - 1
-    if closed:
-        return np.mod(e, k)
-    return np.clip(e, 0, k - 2)
+@dataclass(frozen=True)
+class _ContourData:
+    """What the repair measures against: the data points and the ordered points of one
+    contour, each with its curve parameter, and the tolerance."""
+
+    points: FloatArray
+    params: FloatArray
+    ordered: FloatArray
+    fine_u: FloatArray
+    closed: bool
+    tolerance: float
 
 
-def own_edge_distance(vertices: FloatArray, vparams: FloatArray, points: FloatArray,
-                      params: FloatArray, closed: bool) -> FloatArray:
-    """Distance of each point to the polygon edge whose parameter span holds it.
-
-    This bounds the distance to the polygon; keeping it within the tolerance is the invariant
-    that repair establishes and the selection preserves.
-    """
-    e = _edge_of(vparams, params, closed)
-    return segment_distance(points, vertices[e], vertices[(e + 1) % len(vertices)])
-
-
-def _repair(vertices, vparams, ordered, fine_u, points, params, closed, tolerance):
+def _repair(c: _ContourData, vertices: FloatArray, vparams: FloatArray
+            ) -> tuple[FloatArray, FloatArray]:
     """Insert finest-level points (or the data points themselves) until all are within tolerance.
 
     Each round inserts, into every edge that one of its points is farther than the tolerance
@@ -362,299 +330,42 @@ def _repair(vertices, vparams, ordered, fine_u, points, params, closed, toleranc
     ordered point inside gets its worst data point. Points inserted as vertices are at distance
     0, so this ends.
     """
-    limit = tolerance * (1 + SLACK)
-    for _ in range(len(points) + len(ordered) + 1):
-        dist = own_edge_distance(vertices, vparams, points, params, closed)
+    limit = c.tolerance * (1 + SLACK)
+    for _ in range(len(c.points) + len(c.ordered) + 1):
+        dist = own_edge_distance(vertices, vparams, c.points, c.params, c.closed)
         bad = dist > limit
         if not bad.any():
             break
-        edges = np.unique(_edge_of(vparams, params[bad], closed))
+        edges = np.unique(edge_of(vparams, c.params[bad], c.closed))
         new_v, new_u = [], []
         for e in edges:
-            v, u = _split_point(e, vertices, vparams, ordered, fine_u, points, params, dist,
-                                bad, closed)
+            v, u = _split_point(c, e, vertices, vparams, dist, bad)
             new_v.append(v)
             new_u.append(u)
         vertices = np.vstack([vertices, new_v])
         vparams = np.concatenate([vparams, new_u])
-        order = np.argsort(np.mod(vparams, 1.0) if closed else vparams, kind="stable")
+        order = np.argsort(np.mod(vparams, 1.0) if c.closed else vparams, kind="stable")
         vertices, vparams = vertices[order], vparams[order]
     return vertices, vparams
 
 
-def _split_point(e, vertices, vparams, ordered, fine_u, points, params, dist, bad, closed):
+def _split_point(c: _ContourData, e: int, vertices: FloatArray, vparams: FloatArray,
+                 dist: FloatArray, bad: np.ndarray) -> tuple[FloatArray, float]:
+    """The point to insert into edge ``e``: the farthest ordered point inside it, else its
+    farthest data point beyond the tolerance."""
     k = len(vertices)
     a, b = vparams[e], vparams[(e + 1) % k]
-    if closed:
+    if c.closed:
         span = np.mod(b - a, 1.0) or 1.0
-        inside = (np.mod(fine_u - a, 1.0) > 0) & (np.mod(fine_u - a, 1.0) < span)
+        inside = (np.mod(c.fine_u - a, 1.0) > 0) & (np.mod(c.fine_u - a, 1.0) < span)
     else:
-        inside = (fine_u > a) & (fine_u < b)
+        inside = (c.fine_u > a) & (c.fine_u < b)
     cand = np.flatnonzero(inside)
     if len(cand):
-        d = segment_distance(ordered[cand], vertices[e], vertices[(e + 1) % k])
+        d = segment_distance(c.ordered[cand], vertices[e], vertices[(e + 1) % k])
         if d.max() > 0:
             j = cand[np.argmax(d)]
-            return ordered[j], fine_u[j]
-    in_edge = np.flatnonzero(bad & (_edge_of(vparams, params, closed) == e))
+            return c.ordered[j], c.fine_u[j]
+    in_edge = np.flatnonzero(bad & (edge_of(vparams, c.params, c.closed) == e))
     j = in_edge[np.argmax(dist[in_edge])]
-    return points[j], params[j]
-
-
-def select_vertices(vertices: FloatArray, vparams: FloatArray, points: FloatArray,
-                    params: FloatArray, closed: bool, tolerance: float,
-                    backbone: IntArray | None = None) -> tuple[FloatArray, FloatArray]:
-    """The fewest of the polygon's own vertices that keep every point within ``tolerance``.
-
-    A chord from vertex a to vertex b is feasible when every point whose parameter lies between
-    theirs is within the tolerance of it (the own-edge invariant of the repair, so the result
-    is verified by construction). The shortest path over feasible chords (Imai & Iri) is the
-    optimal subset of an open contour. On a closed contour every start in a window that any
-    polygon must have a vertex in is tried (`_closed_starts`), and the best is kept.
-    """
-    k = len(vertices)
-    if k <= (3 if closed else 2):
-        return vertices, vparams
-    if not closed:  # points beyond the ends belong to the end edges (as in `_edge_of`)
-        params = np.clip(params, vparams[0], np.nextafter(vparams[-1], -np.inf))
-    order = np.argsort(np.mod(params, 1.0) if closed else params, kind="stable")
-    pts, prm = points[order], (np.mod(params, 1.0) if closed else params)[order]
-    u = np.mod(vparams, 1.0) if closed else vparams.copy()
-    pts, prm = _hull_of_each_gap(pts, prm, u)
-    if closed:  # unroll: vertices and points twice round, parameters + 1 the second time
-        vertices2, u = np.vstack([vertices, vertices]), np.concatenate([u, u + 1.0])
-        pts, prm = np.vstack([pts, pts]), np.concatenate([prm, prm + 1.0])
-    else:
-        vertices2 = vertices
-    feasible = _feasible_chords(vertices2, u, pts, prm, tolerance * (1 + SLACK),
-                                max_span=k if closed else k - 1, periodic=closed)
-    if backbone is not None and len(backbone) >= 2:
-        _allow_backbone(feasible, backbone, k, closed)
-    if not closed:
-        path = _shortest(feasible, 0, k - 1)
-        return vertices[path], vparams[path]
-    best = None
-    for start in _closed_starts(feasible, k):
-        try:
-            path = _shortest(feasible, start, start + k, min_edges=3)
-        except RuntimeError:  # no polygon has this vertex; another start in the window does
-            continue
-        if best is None or len(path) < len(best):
-            best = path
-    if best is None:
-        raise RuntimeError("internal error: no feasible polygon")
-    keep = np.sort(best[:-1] % k)
-    return vertices[keep], vparams[keep]
-
-
-def _hull_of_each_gap(pts: FloatArray, prm: FloatArray, u: FloatArray
-                      ) -> tuple[FloatArray, FloatArray]:
-    """The points (sorted by parameter ``prm``) that may be hull vertices of the points between
-    two consecutive vertex parameters ``u``: the cone test's distances are convex functions of
-    the point, so a chord keeps every point within the tolerance exactly when it keeps these.
-    Points at a vertex's own parameter form a gap of their own (both sweep directions see the
-    same gaps)."""
-    cuts = np.concatenate([[0], np.searchsorted(prm, u, "left"), np.searchsorted(prm, u, "right")])
-    starts = np.unique(cuts[cuts < len(prm)])
-    keep = hull_candidates(pts, starts)
-    return pts[keep], prm[keep]
-
-
-def _allow_backbone(feasible: list[np.ndarray], backbone: IntArray, k: int, closed: bool
-                    ) -> None:
-    """Mark the edges of an already verified polygon (vertex indices ``backbone``) feasible,
-    so that a path always exists; the caller verifies the choice again."""
-    a = backbone if not closed else np.concatenate([backbone, backbone + k])
-    b = np.roll(a, -1)[:-1]
-    a = a[:-1]
-    if closed:
-        b = np.where(b <= a, b + k, b)
-    for x, y in zip(a, b):
-        if 0 < y - x < len(feasible) - x:
-            if y - x > len(feasible[x]):  # beyond where the cone test stopped
-                feasible[x] = np.pad(feasible[x], (0, y - x - len(feasible[x])))
-            feasible[x][y - x - 1] = True
-
-
-def _closed_starts(feasible: list[np.ndarray], k: int) -> IntArray:
-    """Starts to try on a closed contour of ``k`` vertices (``feasible`` unrolled twice round).
-
-    Every polygon has, for each vertex a, a vertex in [a, M(a)], where M(a) is the farthest
-    vertex that a feasible chord starting before a reaches: the polygon's edge over a ends
-    there at the latest. The vertex with the narrowest window (a corner) gives the fewest starts.
-    """
-    last = np.array([a + 1 + int(np.flatnonzero(f)[-1]) if f.any() else a
-                     for a, f in enumerate(feasible[:k])])
-    last = np.concatenate([last, last + k])  # the second turn's arrays are cut at its end
-    # M(a) for a in [k, 2k): the largest ``last`` over the k vertices before a
-    before = maximum_filter1d(last, size=k, origin=(k - 1) // 2)[k - 1:2 * k - 1]
-    window = np.maximum(before - np.arange(k, 2 * k), 0)
-    a = int(np.argmin(window))
-    return np.arange(a, a + window[a] + 1) % k
-
-
-def _feasible_chords(v: FloatArray, u: FloatArray, pts: FloatArray, prm: FloatArray,
-                     limit: float, max_span: int, periodic: bool = False) -> list[np.ndarray]:
-    """For each vertex a, a boolean array over b = a+1 .. : is chord (a, b) feasible.
-
-    Chan & Chin's cone test, swept over the points in parameter order: chord (a, b) keeps every
-    point between them within ``limit`` exactly when b lies in the cone of directions from a
-    that pass within ``limit`` of each of those points, and a in the same cone seen from b.
-    The arrays stop at the last b the forward cone reaches (every later chord is infeasible).
-    """
-    n = len(v)
-    k = n // 2 if periodic else n  # the unrolled second turn repeats the first: sweep once
-    fwd = _sweep_cones(v, u, pts, prm, np.arange(k), limit, max_span, "left")
-    # backwards = forwards on the mirrored contour; the own-edge rule u[a] <= p < u[b] becomes
-    # u'[b'] < p' <= u'[a'], hence the other searchsorted side
-    bwd = _sweep_cones(v[::-1], -u[::-1], pts[::-1], -prm[::-1], np.arange(k), limit,
-                       max_span, "right")[::-1]
-    if periodic:
-        fwd, bwd = fwd * 2, bwd * 2
-    fwd = [f[: n - 1 - a] for a, f in enumerate(fwd)]
-    width = max(1, max(len(f) for f in fwd + bwd))
-    ahead, behind = _padded(fwd, width), _padded(bwd, width)
-    a, off = np.nonzero(ahead)
-    b = a + off + 1  # chord (a, b) needs a in the backward cone of b, at the same offset
-    both = np.zeros_like(ahead)
-    both[a, off] = behind[b, off]
-    return [both[i, : len(f)] for i, f in enumerate(fwd)]
-
-
-def _padded(rows: list[np.ndarray], width: int) -> np.ndarray:
-    out = np.zeros((len(rows), width), dtype=bool)
-    lengths = np.array([len(r) for r in rows])
-    if lengths.sum():
-        out[np.arange(width) < lengths[:, None]] = np.concatenate(rows)
-    return out
-
-
-def _wrap(angle: FloatArray) -> FloatArray:
-    return (angle + np.pi) % (2 * np.pi) - np.pi
-
-
-def _sweep_cones(v: FloatArray, u: FloatArray, pts: FloatArray, prm: FloatArray,
-                 rows: IntArray, limit: float, max_span: int, side: str,
-                 window: int = 128) -> list[np.ndarray]:
-    """ok[a][m]: vertex a+m+1 lies in the cone from vertex a over the points between them.
-
-    All starting vertices sweep together, ``window`` points at a time: the cone from a is the
-    intersection, over the points with parameter in [u[a], u[b]) (``side="left"``), of the
-    directions that pass within ``limit`` of each point farther than ``limit``. A row stops at
-    the window where its cone closes; the targets after it are infeasible and left out.
-    """
-    n = len(v)
-    last = np.minimum(rows + max_span, n - 1)
-    at = np.searchsorted(prm, u, side)  # points before each vertex's parameter
-    start, stop = at[rows], at[last]
-    lo, hi = np.full(len(rows), -np.inf), np.full(len(rows), np.inf)
-    ref = np.full(len(rows), np.nan)
-    found_a, found_b, found_ok = [], [], []
-    # targets with no point between them and a: always feasible
-    first = np.clip(np.searchsorted(at, start, "right"), rows + 1, last + 1)
-    _record(found_a, found_b, found_ok, rows, rows + 1, first, None)
-    active = np.flatnonzero(last > rows)
-    j0 = 0
-    while len(active):
-        a, s = rows[active], start[active]
-        idx = s[:, None] + np.arange(j0, j0 + window)
-        valid = idx < stop[active][:, None]
-        d = pts[np.minimum(idx, len(pts) - 1)] - v[a][:, None, :]
-        r = np.hypot(d[..., 0], d[..., 1])
-        far = (r > limit) & valid
-        theta = np.arctan2(d[..., 1], d[..., 0])
-        new = np.isnan(ref[active]) & far.any(axis=1)
-        ref[active[new]] = theta[new, np.argmax(far[new], axis=1)]
-        base = np.nan_to_num(ref[active])
-        rel = _wrap(theta - base[:, None])
-        half = np.arcsin(np.minimum(limit / np.where(far, r, 1.0), 1.0))
-        lo_w = np.maximum(np.maximum.accumulate(np.where(far, rel - half, -np.inf), axis=1),
-                          lo[active][:, None])
-        hi_w = np.minimum(np.minimum.accumulate(np.where(far, rel + half, np.inf), axis=1),
-                          hi[active][:, None])
-        # targets whose count of points before them falls in this window
-        b_from = np.clip(np.searchsorted(at, s + j0, "right"), a + 1, last[active] + 1)
-        b_to = np.clip(np.searchsorted(at, s + j0 + window, "right"), a + 1, last[active] + 1)
-        row, b = _ranges(b_from, b_to)
-        col = at[b] - s[row] - j0 - 1
-        cone_lo, cone_hi = lo_w[row, col], hi_w[row, col]
-        t_dir = v[b] - v[a[row]]
-        rel_t = _wrap(np.arctan2(t_dir[:, 1], t_dir[:, 0]) - base[row])
-        ok = ((rel_t >= cone_lo - 1e-12) & (rel_t <= cone_hi + 1e-12) & (cone_lo <= cone_hi))
-        _record(found_a, found_b, found_ok, a[row], b, None, ok)
-        lo[active], hi[active] = lo_w[:, -1], hi_w[:, -1]
-        done = (lo_w[:, -1] > hi_w[:, -1]) | (s + j0 + window >= stop[active])
-        active = active[~done]
-        j0 += window
-    return _rows_of(rows, np.concatenate(found_a), np.concatenate(found_b),
-                    np.concatenate(found_ok))
-
-
-def _ranges(begin: IntArray, end: IntArray) -> tuple[IntArray, IntArray]:
-    """(row, value) for every value in [begin[row], end[row])."""
-    counts = np.maximum(end - begin, 0)
-    row = np.repeat(np.arange(len(begin)), counts)
-    offset = np.arange(len(row)) - np.repeat(np.cumsum(counts) - counts, counts)
-    return row, begin[row] + offset
-
-
-def _record(found_a, found_b, found_ok, a, b_or_begin, end, ok) -> None:
-    if end is not None:  # a range of targets, all feasible
-        row, b = _ranges(b_or_begin, end)
-        a, ok = a[row], np.ones(len(row), dtype=bool)
-    else:
-        b = b_or_begin
-    found_a.append(a)
-    found_b.append(b)
-    found_ok.append(ok)
-
-
-def _rows_of(rows: IntArray, a: IntArray, b: IntArray, ok: np.ndarray) -> list[np.ndarray]:
-    """Per starting vertex, the boolean array over its targets a+1 .. (up to the last found)."""
-    length = np.zeros(int(rows.max(initial=-1)) + 1, dtype=np.intp)
-    np.maximum.at(length, a, b - a)
-    out = [np.zeros(length[r], dtype=bool) for r in rows]
-    order = np.argsort(a, kind="stable")
-    a, b, ok = a[order], b[order], ok[order]
-    bounds = np.searchsorted(a, np.append(rows, rows[-1] + 1) if len(rows) else [0])
-    for i, r in enumerate(rows):
-        sel = slice(bounds[i], bounds[i + 1])
-        out[i][b[sel] - r - 1] = ok[sel]
-    return out
-
-
-def _shortest(feasible: list[np.ndarray], start: int, end: int, min_edges: int = 1) -> IntArray:
-    """Fewest-edge path from ``start`` to ``end`` over the feasible chords (forward only).
-
-    ``min_edges`` forbids shorter paths (a closed polygon needs 3 edges even when the whole
-    contour is within the tolerance of one point).
-    """
-    big = np.iinfo(np.int64).max // 4
-    count = np.full(end + 1, big)
-    parent = np.full(end + 1, -1)
-    layer_parent = []  # vertices reached with exactly j <= min_edges edges, and their parents
-    reached = np.array([start])
-    for _ in range(min_edges):
-        par = np.full(end + 1, -1)
-        for a in reached:
-            b = a + 1 + np.flatnonzero(feasible[a][: end - a])
-            par[b[par[b] < 0]] = a
-        layer_parent.append(par)
-        reached = np.flatnonzero(par >= 0)
-    count[reached] = len(layer_parent)
-    for a in range(int(reached.min(initial=end)), end):
-        if count[a] >= big:
-            continue
-        ok = feasible[a]
-        b = a + 1 + np.flatnonzero(ok[: end - a])
-        better = count[a] + 1 < count[b]
-        count[b[better]] = count[a] + 1
-        parent[b[better]] = a
-    if count[end] >= big:
-        raise RuntimeError("internal error: no feasible path through the polygon")
-    path = [end]
-    while parent[path[-1]] >= 0:
-        path.append(int(parent[path[-1]]))
-    for par in layer_parent[::-1]:
-        path.append(int(par[path[-1]]))
-    return np.array(path[::-1], dtype=np.intp)
+    return c.points[j], c.params[j]

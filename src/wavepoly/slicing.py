@@ -28,79 +28,34 @@ local process pool here and ready for a cluster engine.
 
 from __future__ import annotations
 
-import os
 import time
 from collections.abc import Callable
-from concurrent.futures import ProcessPoolExecutor
-from dataclasses import dataclass, field
+from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .errors import DataError, ParameterError, check_tolerance
+from .errors import DataError, ParameterError
 from .fit import fit
 from .geometry import distance_to_contours
-from .io.readers import validate_points
-from .types import FitResult, FloatArray
+from .parallel import run_jobs
+from .types import (
+    DEFAULT_RELATIVE_TOLERANCE,
+    FitResult,
+    FloatArray,
+    Layer,
+    LayerJob,
+    SliceResult,
+    within,
+)
+from .validate import check_relative_tolerance, check_tolerance, validate_points
 
 AXES = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}
-
-
-@dataclass(frozen=True)
-class Layer:
-    """One layer of the model.
-
-    bottom, thickness: the slab [bottom, bottom + thickness) along the axis that it stands for.
-    band: (low, high) heights of the points projected and fitted.
-    fit: the layer's fit, in plane coordinates (see `SliceResult.basis`), with ``fit.z`` the
-        mid-plane height.
-    slab_points: cloud points in the slab; model_error: the largest in-plane distance of a
-        slab point to the layer's contours (inf when the layer has none).
-    """
-
-    bottom: float
-    thickness: float
-    band: tuple[float, float]
-    fit: FitResult
-    slab_points: int
-    model_error: float
-
-    @property
-    def z(self) -> float:
-        """Height of the layer's mid-plane."""
-        return self.bottom + 0.5 * self.thickness
-
-    @property
-    def top(self) -> float:
-        return self.bottom + self.thickness
-
-
-@dataclass(frozen=True)
-class SliceResult:
-    """Layers bottom to top. ``basis`` rows are (e1, e2, axis): a point p has plane coordinates
-    (p . e1, p . e2) and height p . axis."""
-
-    layers: list[Layer]
-    basis: FloatArray
-    tolerance: float
-    adaptive: bool
-    n_points: int
-    timings: dict[str, float] = field(default_factory=dict)
-    notes: tuple[str, ...] = ()
-
-    @property
-    def model_error(self) -> float:
-        """Largest in-plane distance of a cloud point to the contours of its layer (layers
-        with no contour are counted in `notes` instead)."""
-        errs = [la.model_error for la in self.layers if la.slab_points and la.fit.contours]
-        return max(errs) if errs else 0.0
-
-    @property
-    def n_vertices(self) -> int:
-        return sum(la.fit.n_vertices for la in self.layers)
-
-    def to_world(self, xy: FloatArray, height: float) -> FloatArray:
-        """3D points of plane coordinates ``xy`` at ``height`` along the axis."""
-        return xy @ self.basis[:2] + height * self.basis[2]
+#: Refuse plans of more layers than this: a thickness that small is a unit mistake.
+MAX_LAYERS = 100_000
+#: Layers per range are rounded up unless the range is within this fraction of a whole count.
+LAYER_COUNT_SLACK = 1e-9
+#: Adaptive thicknesses grow and shrink by this factor per trial (Wu et al. use a similar step).
+GROWTH = 1.25
 
 
 def plane_basis(axis: str | FloatArray) -> FloatArray:
@@ -124,7 +79,8 @@ def plane_basis(axis: str | FloatArray) -> FloatArray:
 def slice_cloud(points3d: FloatArray, tolerance: float, *, axis: str | FloatArray = "z",
                 layer_thickness: float | None = None, adaptive: bool = False,
                 min_layer: float | None = None, max_layer: float | None = None,
-                band: float | None = None, relative_tolerance: float | str = 0.05,
+                band: float | None = None,
+                relative_tolerance: float | None = DEFAULT_RELATIVE_TOLERANCE,
                 workers: int | None = None,
                 progress: Callable[[int, int], None] | None = None) -> SliceResult:
     """Slice a 3D cloud into layers and fit each layer's contours within ``tolerance``.
@@ -140,7 +96,7 @@ def slice_cloud(points3d: FloatArray, tolerance: float, *, axis: str | FloatArra
     min_layer, max_layer : bounds of adaptive thicknesses (default: 2 and 20 x tolerance).
     band : thickness of the band of points projected onto each layer's mid-plane. Default:
         the whole slab for uniform layers, ``min_layer`` for adaptive ones.
-    relative_tolerance : eq. 7 threshold passed to `wavepoly.fit`.
+    relative_tolerance : eq. 7 threshold passed to `wavepoly.fit` (None: automatic).
     workers : processes for uniform layers' fits (default: all cores; 1 runs in this process);
         adaptive layers are fitted in sequence, each thickness depending on the fit.
     progress : called as ``progress(done, total)`` after each layer.
@@ -149,6 +105,7 @@ def slice_cloud(points3d: FloatArray, tolerance: float, *, axis: str | FloatArra
     if pts.shape[1] != 3:
         raise DataError(f"cloud: slicing needs (N, 3) points, got {pts.shape[1]} columns")
     tolerance = check_tolerance(tolerance)
+    relative_tolerance = check_relative_tolerance(relative_tolerance)
     basis = plane_basis(axis)
     t0 = time.perf_counter()
     height = pts @ basis[2]
@@ -160,8 +117,8 @@ def slice_cloud(points3d: FloatArray, tolerance: float, *, axis: str | FloatArra
         if lo > hi:
             raise ParameterError(f"min_layer {lo:g} is thicker than max_layer {hi:g}")
         band = check_tolerance(band, "band") if band is not None else lo
-        plan = adaptive_layers(height, uv, tolerance, lo, hi, band, relative_tolerance,
-                               progress)
+        plan = adaptive_layers(height, uv, _Bounds(tolerance, lo, hi, band,
+                                                   relative_tolerance), progress)
         bottoms = np.array([p[0] for p in plan])
         thick = np.array([p[1] for p in plan])
         fits = [p[2] for p in plan]
@@ -179,10 +136,11 @@ def slice_cloud(points3d: FloatArray, tolerance: float, *, axis: str | FloatArra
         bands = [_band(height, b + t / 2, t if band is None else min(band, t)) for b, t in
                  zip(bottoms, thick)]
         slabs = [np.searchsorted(height, [b, b + t]) for b, t in zip(bottoms, thick)]
-        jobs = [(uv[s0:s1], (i0 - s0, i1 - s0), tolerance, relative_tolerance, float(b + t / 2))
+        jobs = [LayerJob(uv[s0:s1], (int(i0 - s0), int(i1 - s0)), tolerance,
+                         relative_tolerance, float(b + t / 2))
                 for (i0, i1), (s0, s1), b, t in zip(bands, slabs, bottoms, thick)]
         t0 = time.perf_counter()
-        fits, errors = zip(*_run(jobs, workers, progress))
+        fits, errors = zip(*run_jobs(fit_layer_job, jobs, workers, progress))
         fitting = time.perf_counter() - t0
     t0 = time.perf_counter()
     layers = []
@@ -198,57 +156,67 @@ def slice_cloud(points3d: FloatArray, tolerance: float, *, axis: str | FloatArra
 
 def uniform_layers(low: float, high: float, thickness: float) -> tuple[FloatArray, FloatArray]:
     """Bottoms and thicknesses of equal layers covering [low, high]."""
-    n = max(1, int(np.ceil((high - low) / thickness - 1e-9)))
-    if n > 100_000:
+    n = max(1, int(np.ceil((high - low) / thickness - LAYER_COUNT_SLACK)))
+    if n > MAX_LAYERS:
         raise ParameterError(f"layer thickness {thickness:g} gives {n} layers: too thin")
     bottoms = low + thickness * np.arange(n)
     return bottoms, np.full(n, thickness)
 
 
-def adaptive_layers(height: FloatArray, uv: FloatArray, tolerance: float, min_layer: float,
-                    max_layer: float, band: float, relative_tolerance: float | str = 0.05,
-                    progress: Callable[[int, int], None] | None = None, grow: float = 1.25
+@dataclass(frozen=True)
+class _Bounds:
+    """What an adaptive layer must meet: the tolerance, the thickness bounds, the band fitted
+    on each trial's mid-plane, and the eq. 7 threshold."""
+
+    tolerance: float
+    min_layer: float
+    max_layer: float
+    band: float
+    relative_tolerance: float | None = DEFAULT_RELATIVE_TOLERANCE
+
+
+def adaptive_layers(height: FloatArray, uv: FloatArray, bounds: _Bounds,
+                    progress: Callable[[int, int], None] | None = None
                     ) -> list[tuple[float, float, FitResult]]:
     """(bottom, thickness, fit) of adaptive layers over points sorted by ``height``.
 
-    Each layer starts from the previous thickness; it grows by ``grow`` while the slab stays
-    within ``tolerance`` of its band's contours (fitted within ``tolerance / 2``) and shrinks
-    by the same factor when it does not, within [min_layer, max_layer].
+    Each layer starts from the previous thickness; it grows by `GROWTH` while the slab stays
+    within the tolerance of its band's contours (fitted within tolerance / 2) and shrinks by the
+    same factor when it does not, within [min_layer, max_layer].
     """
     plan: list[tuple[float, float, FitResult]] = []
-    z, top, t = float(height[0]), float(height[-1]), max_layer
-    total = max(1, int(np.ceil((top - z) / min_layer)))
+    z, top, t = float(height[0]), float(height[-1]), bounds.max_layer
+    total = max(1, int(np.ceil((top - z) / bounds.min_layer)))
     while z < top or not plan:
-        res, ok = _try_layer(height, uv, z, t, band, tolerance, relative_tolerance)
+        res, ok = _try_layer(height, uv, z, t, bounds)
         if ok:
-            while t < max_layer:
-                bigger = min(max_layer, t * grow)
-                res2, ok2 = _try_layer(height, uv, z, bigger, band, tolerance,
-                                       relative_tolerance)
+            while t < bounds.max_layer:
+                bigger = min(bounds.max_layer, t * GROWTH)
+                res2, ok2 = _try_layer(height, uv, z, bigger, bounds)
                 if not ok2:
                     break
                 t, res = bigger, res2
         else:
-            while not ok and t > min_layer:
-                t = max(min_layer, t / grow)
-                res, ok = _try_layer(height, uv, z, t, band, tolerance, relative_tolerance)
+            while not ok and t > bounds.min_layer:
+                t = max(bounds.min_layer, t / GROWTH)
+                res, ok = _try_layer(height, uv, z, t, bounds)
         plan.append((z, t, res))
         z += t
         if progress:
-            progress(min(total, int(np.ceil((z - height[0]) / min_layer))), total)
+            progress(min(total, int(np.ceil((z - height[0]) / bounds.min_layer))), total)
     return plan
 
 
-def _try_layer(height, uv, bottom, thickness, band, tolerance, relative_tolerance
-               ) -> tuple[FitResult, bool]:
+def _try_layer(height: FloatArray, uv: FloatArray, bottom: float, thickness: float,
+               bounds: _Bounds) -> tuple[FitResult, bool]:
     """Fit the mid-plane band within tolerance / 2; is every slab point within tolerance?"""
     mid = bottom + thickness / 2
-    b0, b1 = _band(height, mid, min(band, thickness))
-    res = fit_layer(uv[b0:b1], tolerance / 2, relative_tolerance, mid)
+    b0, b1 = _band(height, mid, min(bounds.band, thickness))
+    res = fit_layer(uv[b0:b1], bounds.tolerance / 2, bounds.relative_tolerance, mid)
     s0, s1 = np.searchsorted(height, [bottom, bottom + thickness])
     if s1 == s0:
         return res, True
-    return res, _model_error(uv[s0:s1], res) <= tolerance * (1 + 1e-9)
+    return res, within(_model_error(uv[s0:s1], res), bounds.tolerance)
 
 
 def _model_error(slab: FloatArray, res: FitResult) -> float:
@@ -262,7 +230,7 @@ def _band(height: FloatArray, mid: float, width: float) -> tuple[int, int]:
     return int(i0), int(i1)
 
 
-def fit_layer(points: FloatArray, tolerance: float, relative_tolerance: float | str,
+def fit_layer(points: FloatArray, tolerance: float, relative_tolerance: float | None,
               z: float) -> FitResult:
     """The fit of one layer's projected band points (a pure function: safe in any worker).
 
@@ -273,36 +241,14 @@ def fit_layer(points: FloatArray, tolerance: float, relative_tolerance: float | 
     except DataError as exc:
         return FitResult([], tolerance, 0.0, 0.0, np.arange(len(points)), len(points),
                          notes=(f"no contour: {exc}",), z=z)
-    return FitResult(res.contours, res.tolerance, res.max_error, res.mean_error, res.outliers,
-                     res.n_points, res.parents, res.reports, res.timings, res.notes, z)
+    return replace(res, z=z)
 
 
-def _fit_job(job: tuple) -> tuple[FitResult, float]:
-    """Fit a layer's band (``slab[band]``) and measure its slab against the fit."""
-    slab, (b0, b1), tolerance, relative_tolerance, z = job
-    res = fit_layer(slab[b0:b1], tolerance, relative_tolerance, z)
-    return res, _model_error(slab, res)
-
-
-def _run(jobs: list[tuple], workers: int | None, progress
-         ) -> list[tuple[FitResult, float]]:
-    workers = os.cpu_count() or 1 if workers is None else int(workers)
-    if workers < 1:
-        raise ParameterError(f"workers must be 1 or more, not {workers}")
-    if workers == 1 or len(jobs) <= 1:
-        out = []
-        for k, job in enumerate(jobs):
-            out.append(_fit_job(job))
-            if progress:
-                progress(k + 1, len(jobs))
-        return out
-    out = []
-    with ProcessPoolExecutor(max_workers=min(workers, len(jobs))) as pool:
-        for k, res in enumerate(pool.map(_fit_job, jobs, chunksize=1)):
-            out.append(res)
-            if progress:
-                progress(k + 1, len(jobs))
-    return out
+def fit_layer_job(job: LayerJob) -> tuple[FitResult, float]:
+    """Fit a layer's band (``job.slab[band]``) and measure its whole slab against the fit."""
+    b0, b1 = job.band
+    res = fit_layer(job.slab[b0:b1], job.tolerance, job.relative_tolerance, job.z)
+    return res, _model_error(job.slab, res)
 
 
 def _notes(layers: list[Layer], tolerance: float) -> list[str]:
@@ -316,16 +262,3 @@ def _notes(layers: list[Layer], tolerance: float) -> list[str]:
         notes.append(f"{len(over)} layer(s) where slab points lie beyond the tolerance of the "
                      "layer's contours (caps and ledges inside a slab, or thick layers on slopes)")
     return notes
-
-
-def summary(result: SliceResult) -> str:
-    """One line: layers, thickness range, contours, vertices, model error."""
-    thick = np.array([la.thickness for la in result.layers])
-    n_contours = sum(len(la.fit.contours) for la in result.layers)
-    within = sum(la.model_error <= result.tolerance * (1 + 1e-9) for la in result.layers
-                 if la.slab_points)  # a layer with points but no contour is not within
-    return (f"{result.n_points} points -> {len(result.layers)} layers "
-            f"({'adaptive' if result.adaptive else 'uniform'}, thickness {thick.min():.4g}"
-            f"-{thick.max():.4g}), {n_contours} contours, {result.n_vertices} vertices, "
-            f"layer model error {result.model_error:.4g} (tolerance {result.tolerance:g}; "
-            f"{within} of {sum(la.slab_points > 0 for la in result.layers)} layers within it)")

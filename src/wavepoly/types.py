@@ -1,7 +1,8 @@
-"""The small typed records that the pipeline's stages hand to each other.
+"""The ground floor: every record that crosses a module, the guarantee's slack and the defaults.
 
-Data flows one way: points -> `Ordering` (of `OrderedContour`) -> wavelet levels -> `Contour`
--> `FitResult` -> writers; for 3D clouds, `Layer` records in a `SliceResult`.
+Data flows one way: points -> `Ordering` (of `Chain` and `OrderedContour`) -> `Pyramid` (the
+wavelet levels) -> `Reconstruction` -> `Contour` -> `FitResult` -> writers; for 3D clouds,
+`LayerJob` -> `Layer` records in a `SliceResult`. Nothing here imports another wavepoly module.
 """
 
 from __future__ import annotations
@@ -13,6 +14,31 @@ from numpy.typing import NDArray
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.intp]
+
+#: Relative slack on the tolerance for floating-point round-off in distance computations: a
+#: point at ``tolerance * (1 + SLACK)`` still counts as within the tolerance.
+SLACK = 1e-9
+
+#: Eq. 7 threshold of the relative shape error that stops the decomposition (§3); the paper
+#: leaves it to the user. ``relative_tolerance=None`` chooses the starting level instead
+#: (like PyWavelets' ``level=None``).
+DEFAULT_RELATIVE_TOLERANCE = 0.05
+
+
+def within(distance: float, tolerance: float) -> bool:
+    """The guarantee's test: ``distance`` is within ``tolerance`` up to round-off (`SLACK`)."""
+    return bool(distance <= tolerance * (1 + SLACK))
+
+
+@dataclass(frozen=True)
+class Chain:
+    """One chain of linked ordering nodes: node indices in marching order, closed or open."""
+
+    nodes: IntArray
+    closed: bool
+
+    def __len__(self) -> int:
+        return int(len(self.nodes))
 
 
 @dataclass(frozen=True)
@@ -118,3 +144,161 @@ class FitResult:
     @property
     def n_vertices(self) -> int:
         return sum(c.n_vertices for c in self.contours)
+
+
+# ---------------------------------------------------------------------------------------------
+# §3: the wavelet levels of one contour
+
+
+@dataclass(frozen=True)
+class LevelErrors:
+    """Eq. 6-7 at one level: per segment of the coarse control polygon."""
+
+    level: int
+    shape: FloatArray  # E_i(s): largest distance of the segment's ordered points
+    relative: FloatArray  # E_i(r) = E_i(s) / length(S_i)
+
+    def violates(self, tolerance: float, relative_tolerance: float) -> bool:
+        """True when some segment breaks both the shape and the relative tolerance (§3)."""
+        return bool(np.any((self.shape > tolerance) & (self.relative > relative_tolerance)))
+
+
+@dataclass(frozen=True)
+class Pyramid:
+    """The wavelet levels of one contour.
+
+    coefficients[j]: control points at level j, for coarsest <= j <= finest.
+    details[j]: wavelet coefficients d[j] that lift level j to j + 1 (eq. 11).
+    fine_index: position of each ordered point among the finest level's control points.
+    errors: eq. 6-7 figures of each level that was examined.
+    """
+
+    closed: bool
+    finest: int
+    coarsest: int
+    coefficients: dict[int, FloatArray]
+    details: dict[int, FloatArray]
+    fine_index: IntArray
+    errors: dict[int, LevelErrors] = field(default_factory=dict)
+
+    @property
+    def levels_decomposed(self) -> int:
+        return self.finest - self.coarsest
+
+
+# ---------------------------------------------------------------------------------------------
+# §4: the reconstruction of one contour
+
+
+@dataclass(frozen=True)
+class Msc:
+    """A multi-storable coefficient run: inner coefficients ``first..last`` of ``level``.
+
+    start / span: parameter interval covered (span may wrap past 1 on a closed contour).
+    """
+
+    level: int
+    first: int
+    last: int
+    start: float
+    span: float
+    points: FloatArray
+    params: FloatArray
+
+
+@dataclass(frozen=True)
+class Reconstruction:
+    """The polygon of one contour and how it was made."""
+
+    vertices: FloatArray
+    params: FloatArray
+    closed: bool
+    mscs: list[Msc]
+    start_level: int
+    wavelet_vertices: int  # after MSC assembly and repair, before the selection
+    max_error: float
+    mean_error: float
+
+    @property
+    def mscs_per_level(self) -> dict[int, int]:
+        out: dict[int, int] = {}
+        for m in self.mscs:
+            out[m.level] = out.get(m.level, 0) + 1
+        return out
+
+
+# ---------------------------------------------------------------------------------------------
+# slicing: layers of a 3D cloud
+
+
+@dataclass(frozen=True)
+class LayerJob:
+    """What one layer's fit needs, and nothing more (it travels to a worker process).
+
+    slab: (n, 2) plane coordinates of the slab's points; band: the slice ``slab[band[0]:
+    band[1]]`` fitted on the mid-plane ``z``; the whole slab is measured against the fit.
+    """
+
+    slab: FloatArray
+    band: tuple[int, int]
+    tolerance: float
+    relative_tolerance: float | None
+    z: float
+
+
+@dataclass(frozen=True)
+class Layer:
+    """One layer of the model.
+
+    bottom, thickness: the slab [bottom, bottom + thickness) along the axis that it stands for.
+    band: (low, high) heights of the points projected and fitted.
+    fit: the layer's fit, in plane coordinates (see `SliceResult.basis`), with ``fit.z`` the
+        mid-plane height.
+    slab_points: cloud points in the slab; model_error: the largest in-plane distance of a
+        slab point to the layer's contours (inf when the layer has none).
+    """
+
+    bottom: float
+    thickness: float
+    band: tuple[float, float]
+    fit: FitResult
+    slab_points: int
+    model_error: float
+
+    @property
+    def z(self) -> float:
+        """Height of the layer's mid-plane."""
+        return self.bottom + 0.5 * self.thickness
+
+    @property
+    def top(self) -> float:
+        return self.bottom + self.thickness
+
+
+@dataclass(frozen=True)
+class SliceResult:
+    """Layers bottom to top. ``basis`` rows are (e1, e2, axis): a point p has plane coordinates
+    (p . e1, p . e2) and height p . axis."""
+
+    layers: list[Layer]
+    basis: FloatArray
+    tolerance: float
+    adaptive: bool
+    n_points: int
+    timings: dict[str, float] = field(default_factory=dict)
+    notes: tuple[str, ...] = ()
+
+    @property
+    def model_error(self) -> float:
+        """Largest in-plane distance of a cloud point to the contours of its layer (layers
+        with no contour are counted in `notes` instead)."""
+        errs = [la.model_error for la in self.layers if la.slab_points and la.fit.contours]
+        return max(errs) if errs else 0.0
+
+    @property
+    def n_vertices(self) -> int:
+        return sum(la.fit.n_vertices for la in self.layers)
+
+    def to_world(self, xy: FloatArray, height: float) -> FloatArray:
+        """3D points of plane coordinates ``xy`` at ``height`` along the axis."""
+        return xy @ self.basis[:2] + height * self.basis[2]

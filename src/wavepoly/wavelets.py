@@ -294,7 +294,7 @@ class _BandedLU:
         return cls(lu, piv, kl, ku)
 
     def widened(self, n: int, edge: int) -> _BandedLU:
-        """The factors of the same shift-invariant matrix at size ``n`` (see `_open_solver`)."""
+        """The factors of the same shift-invariant matrix at size ``n`` (see `analysis_solver`)."""
         lu = _stretch(np.ascontiguousarray(self.lu.T), n, edge).T  # Fortran order, as LAPACK
         rel = _stretch(self.piv - np.arange(len(self.piv)), n, edge)
         return _BandedLU(lu, (rel + np.arange(n)).astype(self.piv.dtype), self.kl, self.ku)
@@ -324,14 +324,14 @@ def _stretch(a: np.ndarray, n: int, edge: int, step: int = 0) -> np.ndarray:
     return out
 
 
-class _OpenSolver:
+class OpenSolver:
     """Solves [P | Q] x = c for one open level; columns interleaved so the matrix is banded."""
 
     def __init__(self, order: np.ndarray, n_coarse: int, lu: _BandedLU):
         self.order, self.n_coarse, self.lu = order, n_coarse, lu
 
     @classmethod
-    def build(cls, level: int) -> _OpenSolver:
+    def build(cls, level: int) -> OpenSolver:
         p, q = synthesis_p(level), synthesis_q(level)
         pq = sp.hstack([p, q]).tocsc()
         counts = np.diff(pq.indptr)
@@ -340,7 +340,7 @@ class _OpenSolver:
         order = np.argsort(centre, kind="stable")
         return cls(order, p.shape[1], _BandedLU.factor(pq[:, order].tocsr()))
 
-    def widened(self, level: int) -> _OpenSolver:
+    def widened(self, level: int) -> OpenSolver:
         """This reference level's solver carried to a finer ``level`` without a new factorization.
 
         Away from the ends, interleaved [P | Q] is invariant under a shift of two rows and two
@@ -356,7 +356,7 @@ class _OpenSolver:
         index = _stretch(index, n, _EDGE, step=1)
         is_q = _stretch(is_q.astype(np.int64), n, _EDGE).astype(bool)
         order = np.where(is_q, index + n_coarse, index)
-        return _OpenSolver(order, n_coarse, self.lu.widened(n, _EDGE))
+        return OpenSolver(order, n_coarse, self.lu.widened(n, _EDGE))
 
     def __call__(self, c: FloatArray) -> tuple[FloatArray, FloatArray]:
         y = self.lu.solve(np.ascontiguousarray(c, dtype=np.float64))
@@ -365,7 +365,7 @@ class _OpenSolver:
         return x[: self.n_coarse], x[self.n_coarse:]
 
 
-class _PeriodicSolver:
+class PeriodicSolver:
     """Solves [P | Q] x = c for one periodic level by FFT: O(n log n), nothing to factor.
 
     Split c into even and odd rows; each is a sum of two circular convolutions (of the coarse
@@ -395,19 +395,19 @@ class _PeriodicSolver:
         return (np.fft.irfft(coarse, n=self.n, axis=0), np.fft.irfft(detail, n=self.n, axis=0))
 
 
-#: Open levels above this one reuse its LU factors (`_OpenSolver.widened`).
-_REFERENCE_LEVEL = 9
+#: Open levels above this one reuse its LU factors (`OpenSolver.widened`).
+REFERENCE_LEVEL = 9
 #: Columns at each end of the reference factors that hold the boundary transients.
 _EDGE = 128
 
 
 @lru_cache(maxsize=64)
-def _solver(level: int, closed: bool) -> _OpenSolver | _PeriodicSolver:
+def analysis_solver(level: int, closed: bool) -> OpenSolver | PeriodicSolver:
     if closed:
-        return _PeriodicSolver(level)
-    if level <= _REFERENCE_LEVEL:
-        return _OpenSolver.build(level)
-    return _solver(_REFERENCE_LEVEL, False).widened(level)
+        return PeriodicSolver(level)
+    if level <= REFERENCE_LEVEL:
+        return OpenSolver.build(level)
+    return analysis_solver(REFERENCE_LEVEL, False).widened(level)
 
 
 def analyze(c: FloatArray, closed: bool = False) -> tuple[FloatArray, FloatArray]:
@@ -417,7 +417,7 @@ def analyze(c: FloatArray, closed: bool = False) -> tuple[FloatArray, FloatArray
     """
     level = level_of(len(c), closed)
     _check_level(level, closed)
-    return _solver(level, closed)(c)
+    return analysis_solver(level, closed)(c)
 
 
 def synthesize(coarse: FloatArray, detail: FloatArray, closed: bool = False) -> FloatArray:

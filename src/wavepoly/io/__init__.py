@@ -1,7 +1,17 @@
-"""Reading scan files and writing polygons."""
+"""Reading scan files, writing polygons and layer models, and the runs' reports."""
 
-from .readers import FORMATS, detect_format, read_points, validate_points
-from .writers import POLYGON_FORMATS, write_polygons
+from .layers import LAYER_FORMATS, write_layers
+from .readers import FORMATS, detect_format, read_points
+from .report import (
+    fit_report,
+    fit_summary,
+    ordering_summary,
+    slice_report,
+    slice_summary,
+    write_report,
+)
+from .writers import POLYGON_FORMATS, write_points, write_polygons
 
-__all__ = ["FORMATS", "POLYGON_FORMATS", "detect_format", "read_points", "validate_points",
-           "write_polygons"]
+__all__ = ["FORMATS", "LAYER_FORMATS", "POLYGON_FORMATS", "detect_format", "fit_report",
+           "fit_summary", "ordering_summary", "read_points", "slice_report", "slice_summary",
+           "write_layers", "write_points", "write_polygons", "write_report"]

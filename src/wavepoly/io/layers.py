@@ -12,7 +12,7 @@ import numpy as np
 
 from ..errors import DataError
 from ..geometry import nesting_depth
-from ..slicing import SliceResult
+from ..types import SliceResult
 from .atomic import atomic_path, write_text_atomic
 from .writers import svg_document, write_geojson
 

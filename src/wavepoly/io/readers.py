@@ -16,6 +16,7 @@ import numpy as np
 
 from ..errors import DataError
 from ..types import FloatArray
+from ..validate import validate_points
 
 TEXT_FORMATS = ("xyz", "xy", "txt", "csv", "pts", "p2d", "gtn", "xym", "asc")
 FORMATS = (*TEXT_FORMATS, "npy", "ply", "las", "laz", "pcd", "obj", "off", "carmen", "conf")
@@ -81,32 +82,6 @@ def read_points(
     except Exception as exc:  # third-party readers raise their own types on corrupt files
         raise DataError(f"{path}: cannot read as {fmt}: {_short(exc)}") from exc
     return validate_points(points, source=str(path))
-
-
-def validate_points(points: object, *, source: str = "points", min_points: int = 2) -> FloatArray:
-    """Check an array of coordinates and return it as contiguous float64 (N, 2|3).
-
-    Raises `DataError` for a wrong shape, no points, fewer than ``min_points``, NaN or
-    infinite values, or points that are all identical.
-    """
-    try:
-        arr = np.asarray(points, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise DataError(f"{source}: coordinates are not numeric") from None
-    if arr.ndim != 2 or arr.shape[1] not in (2, 3):
-        raise DataError(f"{source}: expected an (N, 2) or (N, 3) array, got shape {arr.shape}")
-    if len(arr) == 0:
-        raise DataError(f"{source}: contains no points")
-    bad = ~np.isfinite(arr).all(axis=1)
-    if bad.any():
-        first = int(np.flatnonzero(bad)[0])
-        raise DataError(f"{source}: {int(bad.sum())} point(s) have NaN or infinite coordinates "
-                        f"(first at row {first})")
-    if len(arr) < min_points:
-        raise DataError(f"{source}: only {len(arr)} point(s); at least {min_points} are needed")
-    if np.ptp(arr, axis=0).max() == 0.0:
-        raise DataError(f"{source}: all {len(arr)} points are identical")
-    return np.ascontiguousarray(arr)
 
 
 def _short(exc: BaseException) -> str:
@@ -344,20 +319,3 @@ _READERS: dict[str, Callable[[Path, str, tuple[int, ...] | None], np.ndarray]] =
     "npy": _read_npy, "ply": _read_ply, "las": _read_las, "laz": _read_las, "pcd": _read_pcd,
     "obj": _read_obj, "off": _read_off, "carmen": _read_carmen, "conf": _read_conf,
 }
-
-
-def as_planar(points: FloatArray, source: str = "points") -> FloatArray:
-    """(N, 2) points for a 2D fit: 3D points must lie in a plane of constant x, y or z.
-
-    A constant coordinate column (a slice written as x y 0, or Hoppe's 'p 0 x y') is dropped;
-    truly 3D points raise `DataError` pointing to ``wavepoly slice`` and ``--columns``.
-    """
-    if points.shape[1] == 2:
-        return points
-    extent = np.ptp(points, axis=0)
-    flat = np.flatnonzero(extent <= 1e-12 * max(float(extent.max()), 1e-300))
-    if len(flat) == 0:
-        raise DataError(f"{source}: points are 3D (extents {', '.join(f'{e:.4g}' for e in extent)})"
-                        "; slice them with 'wavepoly slice' or pick two columns with --columns")
-    keep = [k for k in range(3) if k != flat[0]]
-    return validate_points(points[:, keep], source=source, min_points=3)

@@ -144,3 +144,9 @@ def write_csv(path: str | Path, results: Sequence[FitResult]) -> None:
                     row = [cid, k, repr(float(x)), repr(float(y)), int(c.closed)]
                     w.writerow(row + ([r.z] if sliced else []))
                 cid += 1
+
+
+def write_points(path: str | Path, points: np.ndarray, *, header: str = "") -> None:
+    """Write points as a whitespace-separated text file (``.xy``/``.xyz``), atomically."""
+    with atomic_path(path) as tmp:
+        np.savetxt(tmp, points, fmt="%.6f", header=header)

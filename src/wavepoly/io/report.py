@@ -1,0 +1,89 @@
+"""What a run reports: the JSON reports of a fit and of a slicing, and their summary lines.
+
+The CLI and the demo print and write these; they are plain functions of the result records, so
+a notebook or a pipeline gets the same figures as the command line.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import asdict
+from pathlib import Path
+
+import numpy as np
+
+from ..types import FitResult, Ordering, SliceResult, within
+from .atomic import write_text_atomic
+
+
+def write_report(path: str | Path, report: dict) -> None:
+    """Write a report (`fit_report`, `slice_report`) as indented JSON, atomically."""
+    write_text_atomic(path, json.dumps(report, indent=2))
+
+
+def fit_report(result: FitResult, source: str) -> dict:
+    """The JSON report of a fit: per contour figures, timings, outliers and notes."""
+    return {
+        "input": source, "points": result.n_points, "tolerance": result.tolerance,
+        "max_error": result.max_error, "mean_error": result.mean_error,
+        "contours": [{**asdict(r), "mscs_per_level": {str(k): v for k, v in
+                                                       r.mscs_per_level.items()}}
+                     for r in result.reports],
+        "vertices": result.n_vertices, "outliers": len(result.outliers),
+        "outlier_indices": result.outliers.tolist(), "timings": result.timings,
+        "notes": list(result.notes),
+    }
+
+
+def fit_summary(result: FitResult) -> list[str]:
+    """Lines for a terminal: one per contour, then the totals, then the notes."""
+    lines = []
+    for k, (c, r) in enumerate(zip(result.contours, result.reports)):
+        lines.append(f"contour {k}: {'closed' if c.closed else 'open  '} {r.input_points:7d} "
+                     f"points -> {r.ordered_points:6d} ordered -> {r.wavelet_vertices:5d} "
+                     f"wavelet -> {r.final_vertices:4d} vertices, max error {c.max_error:.4g}")
+    lines.append(f"{result.n_points} points -> {len(result.contours)} contours, "
+                 f"{result.n_vertices} vertices, max error {result.max_error:.4g} "
+                 f"(tolerance {result.tolerance:.4g}), {len(result.outliers)} outliers")
+    lines += [f"note: {note}" for note in result.notes]
+    return lines
+
+
+def slice_report(result: SliceResult, source: str) -> dict:
+    """The JSON report of a slicing: per layer heights, thickness, contours, errors."""
+    return {
+        "input": source, "points": result.n_points, "tolerance": result.tolerance,
+        "adaptive": result.adaptive, "layers": len(result.layers),
+        "model_error": result.model_error, "vertices": result.n_vertices,
+        "per_layer": [{"bottom": la.bottom, "thickness": la.thickness, "z": la.z,
+                       "band_points": la.fit.n_points, "slab_points": la.slab_points,
+                       "contours": len(la.fit.contours),
+                       "closed": sum(c.closed for c in la.fit.contours),
+                       "vertices": la.fit.n_vertices, "fit_max_error": la.fit.max_error,
+                       "model_error": la.model_error if np.isfinite(la.model_error) else None,
+                       "outliers": len(la.fit.outliers), "notes": list(la.fit.notes)}
+                      for la in result.layers],
+        "timings": result.timings, "notes": list(result.notes),
+    }
+
+
+def slice_summary(result: SliceResult) -> str:
+    """One line: layers, thickness range, contours, vertices, model error."""
+    thick = np.array([la.thickness for la in result.layers])
+    n_contours = sum(len(la.fit.contours) for la in result.layers)
+    n_within = sum(within(la.model_error, result.tolerance) for la in result.layers
+                   if la.slab_points)  # a layer with points but no contour is not within
+    return (f"{result.n_points} points -> {len(result.layers)} layers "
+            f"({'adaptive' if result.adaptive else 'uniform'}, thickness {thick.min():.4g}"
+            f"-{thick.max():.4g}), {n_contours} contours, {result.n_vertices} vertices, "
+            f"layer model error {result.model_error:.4g} (tolerance {result.tolerance:g}; "
+            f"{n_within} of {sum(la.slab_points > 0 for la in result.layers)} layers within it)")
+
+
+def ordering_summary(ordering: Ordering, n_points: int) -> str:
+    """One line: contours (closed/open), ordered points, outliers, radius."""
+    n_closed = sum(c.closed for c in ordering.contours)
+    ordered = sum(len(c.points) for c in ordering.contours)
+    return (f"{n_points} points -> {len(ordering.contours)} contours ({n_closed} closed, "
+            f"{len(ordering.contours) - n_closed} open), {ordered} ordered points, "
+            f"{len(ordering.outliers)} outliers, radius {ordering.radius:.4g}")

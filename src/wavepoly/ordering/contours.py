@@ -1,0 +1,173 @@
+"""Contours from chains (paper §2): sharp corners restored, ends extended, members assigned.
+
+Where a chain turns sharply, the run of turning points is replaced by the intersection of the
+straight legs on either side, so corners stay sharp instead of being rounded by the
+neighbourhood averaging (`sharpen_corners`). Every input point belongs to the contour of its
+nearest ordered point (its *members*); points of chains too short to be curves, or farther than
+the radius from their contour, are outliers.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from ..geometry import farther_than
+from ..types import Chain, FloatArray, IntArray, OrderedContour
+from .marching import CORNER_TURN, turning
+from .neighbourhoods import Nodes
+
+#: Chains shorter than this cannot hold a corner with two legs of two points each.
+MIN_CORNER_NODES = 6
+#: Two legs meeting at less than this angle (degrees) are too parallel to intersect reliably.
+MIN_LEG_ANGLE = 25.0
+#: A point belongs to a contour when a node of it is within this many radii.
+MEMBER_REACH = 2.0
+#: Members farther than this (in radii) from the chain mark a corner it cut.
+CORNER_GAP = 0.6
+#: A cut corner is a group of at least this many members beyond `CORNER_GAP` (lone noisy
+#: points never qualify).
+CORNER_GROUP = 3
+#: Rounds of corner insertion: each halves the gap a rounded corner leaves.
+CORNER_ROUNDS = 4
+
+
+def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain],
+                absorbed: IntArray, radius: float, min_points: int
+                ) -> tuple[list[OrderedContour], IntArray]:
+    """Contours from chains of at least ``min_points`` nodes, each with its member points.
+
+    A point belongs to the contour of its nearest node among those contours (within
+    `MEMBER_REACH` radii;
+    farther points, and the points of shorter chains that no contour is near, are outliers).
+    The ``absorbed`` nodes of dropped side chains count as nodes of the contour nearest them.
+    """
+    chains = [c for c in chains if len(c) >= min_points]
+    if not chains:
+        return [], np.arange(len(pts), dtype=np.intp)
+    node_ids = np.concatenate([c.nodes for c in chains])
+    owner = np.repeat(np.arange(len(chains)), [len(c) for c in chains])
+    if len(absorbed):
+        _, host = cKDTree(nodes.xy[node_ids]).query(nodes.xy[absorbed])
+        node_ids, owner = np.concatenate([node_ids, absorbed]), np.concatenate([owner,
+                                                                                 owner[host]])
+    dist, nearest = cKDTree(nodes.xy[node_ids]).query(
+        pts, distance_upper_bound=MEMBER_REACH * radius)
+    chain_of_point = np.where(np.isfinite(dist), owner[np.minimum(nearest, len(owner) - 1)], -1)
+    order = np.argsort(chain_of_point, kind="stable")
+    bounds = np.searchsorted(chain_of_point[order], np.arange(len(chains) + 1))
+    contours: list[OrderedContour] = []
+    outliers = [np.flatnonzero(chain_of_point < 0)]
+    first_node = np.concatenate([[0], np.cumsum([len(c) for c in chains])])
+    for c, chain in enumerate(chains):
+        seq, closed = chain.nodes, chain.closed
+        members = order[bounds[c]:bounds[c + 1]]
+        xy = sharpen_corners(nodes.xy[seq], closed, tree, radius)
+        if not closed:
+            xy = _extend_ends(xy, pts[members], radius)
+        # a member within CORNER_GAP radii of a node that is still a vertex needs no measuring
+        at = nearest[members] - first_node[c]
+        own = (at >= 0) & (at < len(seq))  # not an absorbed node
+        kept = np.zeros(len(members), dtype=bool)
+        kept[own] = _still_vertices(nodes.xy[seq], xy)[at[own]]
+        unsure = np.flatnonzero(~(kept & (dist[members] <= CORNER_GAP * radius)))
+        xy, far = _cover_cut_corners(xy, pts[members[unsure]], closed, radius)
+        inside = np.ones(len(members), dtype=bool)
+        inside[unsure[far]] = False
+        outliers.append(members[~inside])
+        contours.append(OrderedContour(xy, closed, members[inside]))  # sorted: stable argsort
+    return contours, np.sort(np.concatenate(outliers)).astype(np.intp)
+
+
+def _still_vertices(chain: FloatArray, xy: FloatArray) -> np.ndarray:
+    """Which points of ``chain`` are (exactly) vertices of ``xy``."""
+    return np.isin(chain[:, 0] + 1j * chain[:, 1], xy[:, 0] + 1j * xy[:, 1])
+
+
+def _cover_cut_corners(xy: FloatArray, members: FloatArray, closed: bool, radius: float,
+                       rounds: int = CORNER_ROUNDS) -> tuple[FloatArray, IntArray]:
+    """Insert member points where a group of them lies off the chain (a corner it cut).
+
+    Where `CORNER_GROUP` points tied to one chain segment are farther than `CORNER_GAP` radii
+    from the chain, the farthest of them is inserted into that segment; a few rounds of this put
+    a point on a corner that neighbourhood averaging rounded off. Lone noisy points never
+    qualify.
+    Returns the new chain and the members still farther than ``radius`` from it.
+    """
+    for round_ in range(rounds + 1):
+        far, seg, dist = farther_than(members, xy, closed and len(xy) >= 3,
+                                      CORNER_GAP * radius)
+        segs = np.empty(0, dtype=np.intp)
+        if len(far) >= CORNER_GROUP and round_ < rounds:
+            counts = np.bincount(seg, minlength=len(xy))
+            worst = np.full(len(xy), -1)
+            order = np.argsort(dist)
+            worst[seg[order]] = far[order]  # the last write per segment is its farthest point
+            segs = np.flatnonzero((counts >= CORNER_GROUP) & (worst >= 0))
+        if not len(segs):
+            return xy, far[dist > radius]
+        xy = np.insert(xy, segs + 1, members[worst[segs]], axis=0)
+    raise AssertionError("unreachable")  # pragma: no cover
+
+
+def _extend_ends(xy: FloatArray, members: FloatArray, radius: float) -> FloatArray:
+    """Move an open chain's end points out, within one radius, to its farthest member point."""
+    out = xy.copy()
+    for end, inner in ((0, 1), (-1, -2)):
+        direction = out[end] - out[inner]
+        length = np.linalg.norm(direction)
+        if length == 0:
+            continue
+        direction /= length
+        reach = (members - out[end]) @ direction
+        lateral = np.abs((members - out[end]) @ np.array([-direction[1], direction[0]]))
+        ahead = (reach > 0) & (reach <= radius) & (lateral < max(length, radius / 2))
+        if ahead.any():
+            out[end] = out[end] + direction * reach[ahead].max()
+    return out
+
+
+def sharpen_corners(xy: FloatArray, closed: bool, pts_tree: cKDTree, radius: float
+                    ) -> FloatArray:
+    """Replace each run of turning points by the intersection of the straight legs beside it,
+    where that corner lies within a radius of the run and half a radius of the data."""
+    n = len(xy)
+    if n < MIN_CORNER_NODES:
+        return xy
+    corner = turning(xy, closed) >= CORNER_TURN
+    if not corner.any() or corner.all():
+        return xy
+    shifted = np.roll(corner, 1) if closed else np.concatenate([[False], corner[:-1]])
+    starts = np.flatnonzero(corner & ~shifted)
+    keep = np.ones(n, dtype=bool)
+    new_xy = xy.copy()
+    for s in starts:
+        length = 1
+        while length < n and corner[(s + length) % n] and (closed or s + length < n):
+            length += 1
+        run = (s + np.arange(length)) % n
+        e = run[-1]
+        before, after = [s - 2, s - 1], [e + 1, e + 2]
+        if not closed and (before[0] < 0 or after[1] >= n):
+            continue
+        before, after = [i % n for i in before], [i % n for i in after]
+        point = _intersect(xy[before[0]], xy[before[1]], xy[after[0]], xy[after[1]])
+        if point is None:
+            continue
+        near_run = np.min(np.linalg.norm(xy[run] - point, axis=1)) <= radius
+        has_data = pts_tree.query(point)[0] <= radius / 2
+        if near_run and has_data:
+            keep[run] = False
+            keep[run[0]] = True
+            new_xy[run[0]] = point
+    return new_xy[keep]
+
+
+def _intersect(a0, a1, b0, b1) -> FloatArray | None:
+    """Intersection of line a0a1 with line b0b1 if they cross at more than `MIN_LEG_ANGLE`."""
+    da, db = a1 - a0, b1 - b0
+    cross = da[0] * db[1] - da[1] * db[0]
+    if abs(cross) < np.sin(np.radians(MIN_LEG_ANGLE)) * np.linalg.norm(da) * np.linalg.norm(db):
+        return None
+    t = ((b0 - a0)[0] * db[1] - (b0 - a0)[1] * db[0]) / cross
+    return a0 + t * da

@@ -1,0 +1,130 @@
+"""Joining chain ends (paper §2's march across corners and gaps).
+
+The links along the tangents leave a chain's end free where the march cannot see its next
+point ahead: at a sharp corner (both neighbours of the corner node lie ahead of its tangent),
+at the tip of a notch whose walls merged, and across a gap in the scan. `join_ends` joins free
+ends (and lone nodes) that are each other's nearest free node, under the rules below, in a few
+rounds, so that a lone node can bridge a gap. R is the neighbourhood reach (the radius, or
+wider on noisy scans); every distance here is in R.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+from scipy.spatial import cKDTree
+
+from ..types import FloatArray, IntArray
+from .neighbourhoods import Nodes
+
+#: Rounds of joining: each joins mutual nearest free ends; a gap bridged by lone nodes needs
+#: one round per node, and no case seen needs more than a few.
+JOIN_ROUNDS = 8
+#: Free nodes considered per end (the nearest first): an end's partner is among the nearest few.
+JOIN_CANDIDATES = 5
+#: Ends that face each other join across a gap in the scan of up to this many R.
+FACING_GAP = 5.0
+#: Ends join within this many R whatever their directions (sharp corners, merged notch tips).
+ANY_DIRECTION_GAP = 4.0
+#: An end faces another when the gap's component along its outward direction is at least this
+#: fraction of the gap (the other end within about 45 degrees of straight ahead).
+FACING_COS = 0.7
+#: A chain closes on itself only with at least this many nodes (fewer cannot enclose anything).
+MIN_CLOSING_NODES = 4
+#: A chain of at least this many nodes whose ends are within `LONG_CLOSE_GAP` R closes even when
+#: neither end faces the other (the march crossed between a notch's walls).
+LONG_CHAIN_NODES = 16
+LONG_CLOSE_GAP = 3.0
+
+
+def join_ends(nodes: Nodes, links: IntArray) -> IntArray:
+    """Join free ends (and lone nodes) that are each other's nearest free node.
+
+    Ends join within `ANY_DIRECTION_GAP` R whatever their directions, and across a gap of up
+    to `FACING_GAP` R when each end faces the other. A chain's two ends join only when the
+    chain is long enough to close on itself and one end points at the other. The joining
+    repeats (`JOIN_ROUNDS`), so a lone node can bridge a gap.
+    """
+    reach = nodes.reach
+    n = len(nodes.xy)
+    for _ in range(JOIN_ROUNDS):
+        degree = np.bincount(links.ravel(), minlength=n) if len(links) else np.zeros(n, int)
+        free = np.flatnonzero(degree < 2)
+        if len(free) < 2:
+            break
+        pairs = _mutual_nearest_ends(nodes, links, free, degree, reach)
+        if not len(pairs):
+            break
+        links = np.vstack([links, pairs])
+    return links
+
+
+def _mutual_nearest_ends(nodes: Nodes, links: IntArray, free: IntArray, degree: IntArray,
+                         reach: float) -> IntArray:
+    """One round of joining: pairs of free nodes that choose each other."""
+    n = len(nodes.xy)
+    comp = _components(links, n)
+    size = np.bincount(comp)
+    outward = _outward(nodes.xy, links, free, degree)
+    k = min(JOIN_CANDIDATES, len(free))
+    dist, nbr = cKDTree(nodes.xy[free]).query(nodes.xy[free], k=k,
+                                              distance_upper_bound=FACING_GAP * reach)
+    best = np.full(len(free), -1)
+    for col in range(1, k):
+        cand = np.minimum(nbr[:, col], len(free) - 1)
+        ok = np.isfinite(dist[:, col]) & (best < 0)
+        same = comp[free] == comp[free[cand]]
+        ok &= ~_linked(links, free, free[cand], n)
+        gap = nodes.xy[free[cand]] - nodes.xy[free]
+        ahead = np.einsum("ij,ij->i", gap, outward)
+        ahead_other = np.einsum("ij,ij->i", -gap, outward[cand])
+        # a chain closes on itself only when one of its ends points at the other: a short
+        # straight run has its ends close together too, but both face away (at a sharp
+        # notch one end may overshoot the other, so one end facing is enough; where the
+        # march crossed between the notch's walls, neither faces, but a long chain whose
+        # ends are this close is a closed contour)
+        facing_one = (ahead > 0) | (ahead_other > 0)
+        long_close = ((size[comp[free]] >= LONG_CHAIN_NODES)
+                      & (dist[:, col] <= LONG_CLOSE_GAP * reach))
+        ok &= ~same | ((size[comp[free]] >= MIN_CLOSING_NODES) & (facing_one | long_close))
+        # a march never turns back: a lone node joins a chain's end only ahead of it (lone
+        # nodes between two walls of a sharp notch would otherwise hook the end round)
+        lone, lone_other = degree[free] == 0, degree[free[cand]] == 0
+        ok &= ~(lone & ~lone_other & (ahead_other <= 0))
+        ok &= ~(lone_other & ~lone & (ahead <= 0))
+        facing = ((ahead > FACING_COS * dist[:, col])
+                  & (ahead_other > FACING_COS * dist[:, col]))
+        ok &= (dist[:, col] <= ANY_DIRECTION_GAP * reach) | facing
+        best[ok] = cand[ok]
+    mutual = (best >= 0) & (best[np.maximum(best, 0)] == np.arange(len(free)))
+    pairs = np.column_stack([free[mutual], free[best[mutual]]])
+    return pairs[pairs[:, 0] < pairs[:, 1]]
+
+
+def _outward(xy: FloatArray, links: IntArray, free: IntArray, degree: IntArray) -> FloatArray:
+    """Unit direction out of the chain at each free node (away from its one neighbour)."""
+    out = np.zeros((len(free), 2))
+    if not len(links):
+        return out
+    neighbour = np.full(len(xy), -1)
+    neighbour[links[:, 0]] = links[:, 1]
+    neighbour[links[:, 1]] = links[:, 0]
+    ends = degree[free] == 1
+    vec = xy[free[ends]] - xy[neighbour[free[ends]]]
+    norm = np.linalg.norm(vec, axis=1, keepdims=True)
+    out[ends] = vec / np.where(norm > 0, norm, 1.0)
+    return out
+
+
+def _linked(links: IntArray, a: IntArray, b: IntArray, n: int) -> np.ndarray:
+    """Whether each pair (a[i], b[i]) is already a link."""
+    if not len(links) or not len(a):
+        return np.zeros(len(a), dtype=bool)
+    keys = np.concatenate([links[:, 0] * n + links[:, 1], links[:, 1] * n + links[:, 0]])
+    return np.isin(a * n + b, keys)
+
+
+def _components(links: IntArray, n: int) -> IntArray:
+    graph = coo_matrix((np.ones(len(links)), (links[:, 0], links[:, 1])), shape=(n, n))
+    return connected_components(graph, directed=False)[1]

@@ -1,0 +1,141 @@
+"""Neighbourhood summaries for the ordering (paper §2): weighted cell atoms, the moments of the
+points within a radius of a centre, and the regression line (principal axis) through them.
+
+Dense clouds enter the sums as one weighted atom per cell of radius / `ATOM_DIVISIONS`
+(`cell_atoms`), so that a neighbourhood's moments are the same sums over far fewer terms.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from ..types import FloatArray, IntArray
+
+#: Cells of radius / ATOM_DIVISIONS summarize dense points (`cell_atoms`): fine enough that a
+#: disc's rim is decided per cell with an error of 1/8 radius at most.
+ATOM_DIVISIONS = 8
+#: An atom per cell pays off only with at least this many points per cell on average.
+MIN_PER_CELL = 2.0
+
+
+@dataclass(frozen=True)
+class Nodes:
+    """Neighbourhood summaries: position (centroid), unit tangent, shape of the scatter."""
+
+    xy: FloatArray
+    tangent: FloatArray
+    ratio: FloatArray  # smaller / larger principal variance
+    spread: FloatArray  # perpendicular RMS distance of the neighbourhood's points
+    reach: float  # radius of the neighbourhoods (the radius, or wider for noisy scans)
+    noise: float  # typical perpendicular spread of the points about their curve
+
+
+def cells(cell: IntArray, weight: FloatArray | None = None) -> tuple[IntArray, FloatArray]:
+    """Index of each item's cell among the occupied ones, and the weight in each cell."""
+    cell = cell - cell.min(axis=0)
+    key = cell[:, 0] * (int(cell[:, 1].max()) + 1) + cell[:, 1]
+    _, inverse = np.unique(key, return_inverse=True)
+    inverse = inverse.ravel()
+    return inverse, np.bincount(inverse, weight).astype(float)
+
+
+@dataclass
+class Atoms:
+    """Weighted points for the neighbourhood moments: position, weight, scatter (xx, xy, yy),
+    and the cell of radius / `ATOM_DIVISIONS` that each lies in."""
+
+    xy: FloatArray
+    weight: FloatArray
+    scatter: FloatArray
+    cell: IntArray
+
+    @cached_property
+    def tree(self) -> cKDTree:
+        return cKDTree(self.xy)
+
+
+def cell_atoms(pts: FloatArray, radius: float, min_per_cell: float = MIN_PER_CELL) -> Atoms:
+    """The points themselves, or where they are dense, one atom per cell of radius / 8 (of the
+    neighbourhoods' radius).
+
+    An atom is the centroid of its cell's points, weighted by their number and carrying their
+    scatter, so a neighbourhood's moments are the same sums over far fewer terms; only the
+    membership at the rim of the disc is decided per cell instead of per point.
+    """
+    cell = np.floor(pts / (radius / ATOM_DIVISIONS)).astype(np.int64)
+    inverse, counts = cells(cell)
+    if len(counts) > len(pts) / min_per_cell:  # too few points per cell: little gain
+        return Atoms(pts, np.ones(len(pts)), np.zeros((len(pts), 3)), cell)
+    centre = np.column_stack([np.bincount(inverse, pts[:, k]) for k in range(2)]) / counts[:, None]
+    d = pts - centre[inverse]
+    scatter = np.column_stack([np.bincount(inverse, d[:, 0] * d[:, 0]),
+                               np.bincount(inverse, d[:, 0] * d[:, 1]),
+                               np.bincount(inverse, d[:, 1] * d[:, 1])])
+    first = np.zeros(len(counts), dtype=np.intp)
+    first[inverse[::-1]] = np.arange(len(pts))[::-1]  # any point of each cell names its cell
+    return Atoms(centre, counts, scatter, cell[first])
+
+
+def moments(centres: FloatArray, atoms: Atoms, radius: float
+             ) -> tuple[FloatArray, FloatArray]:
+    """Centroid and covariance (xx, xy, yy) of the points within ``radius`` of each centre."""
+    pairs = cKDTree(centres).sparse_distance_matrix(atoms.tree, radius, output_type="ndarray")
+    owner, idx = pairs["i"], pairs["j"]
+    k = len(centres)
+    w = atoms.weight[idx]
+    count = np.bincount(owner, w, minlength=k)
+    empty = count == 0
+    count[empty] = 1.0
+    local = atoms.xy[idx] - centres[owner]  # moments about the centre: no cancellation
+    mean = np.column_stack([np.bincount(owner, w * local[:, d], k) for d in range(2)])
+    mean /= count[:, None]
+    scatter = atoms.scatter[idx]
+    sxx = np.bincount(owner, w * local[:, 0] ** 2 + scatter[:, 0], k) / count - mean[:, 0] ** 2
+    sxy = (np.bincount(owner, w * local[:, 0] * local[:, 1] + scatter[:, 1], k) / count
+           - mean[:, 0] * mean[:, 1])
+    syy = np.bincount(owner, w * local[:, 1] ** 2 + scatter[:, 2], k) / count - mean[:, 1] ** 2
+    centroid = centres + mean
+    centroid[empty] = centres[empty]
+    return centroid, np.column_stack([sxx, sxy, syy])
+
+
+def principal_axes(cov: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Unit principal direction (the regression line), variance ratio and perpendicular RMS."""
+    sxx, sxy, syy = cov.T
+    half_trace = 0.5 * (sxx + syy)
+    disc = np.sqrt(np.maximum(0.25 * (sxx - syy) ** 2 + sxy**2, 0.0))
+    big, small = half_trace + disc, np.maximum(half_trace - disc, 0.0)
+    angle = 0.5 * np.arctan2(2 * sxy, sxx - syy)
+    tangent = np.column_stack([np.cos(angle), np.sin(angle)])
+    ratio = np.where(big > 0, small / np.where(big > 0, big, 1.0), 1.0)
+    return tangent, ratio, np.sqrt(small)
+
+
+def regression_step(xy: FloatArray, atoms: Atoms, reach: float
+                     ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """Each centre moved onto the regression line of its neighbourhood (across the curve,
+    never along it), with the line's direction, variance ratio and perpendicular spread."""
+    centroid, cov = moments(xy, atoms, reach)
+    tangent, ratio, spread = principal_axes(cov)
+    along = np.einsum("nd,nd->n", xy - centroid, tangent)
+    return centroid + along[:, None] * tangent, tangent, ratio, spread
+
+
+def perpendicular_kurtosis(centre: FloatArray, tangent: FloatArray, atoms: Atoms,
+                            reach: float) -> FloatArray:
+    """Kurtosis (m4 / m2**2) of the offsets across each line (``centre``, ``tangent``) of the
+    points within ``reach`` of its centre: 3 for Gaussian scatter, 1.8 for a flat band, 1 for
+    two sharp walls side by side."""
+    pairs = cKDTree(centre).sparse_distance_matrix(atoms.tree, reach, output_type="ndarray")
+    owner, idx = pairs["i"], pairs["j"]
+    normal = np.column_stack([-tangent[:, 1], tangent[:, 0]])
+    offset = np.einsum("nd,nd->n", atoms.xy[idx] - centre[owner], normal[owner])
+    w = atoms.weight[idx]
+    total = np.maximum(np.bincount(owner, w, len(centre)), 1e-300)
+    m2 = np.bincount(owner, w * offset**2, len(centre)) / total
+    m4 = np.bincount(owner, w * offset**4, len(centre)) / total
+    return np.divide(m4, m2**2, out=np.zeros_like(m4), where=m2**2 > 0)

@@ -1,0 +1,74 @@
+"""The scan's noise level, and neighbourhoods wide enough to see the curve through it.
+
+On a noisy scan (bell-shaped scatter about the curves) the neighbourhoods reach `NOISE_REACH`
+x the noise instead of the radius, up to `MAX_REACH` radii, so that the tangent follows the
+curve, not the scatter across it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..types import FloatArray
+from .neighbourhoods import (
+    ATOM_DIVISIONS,
+    Atoms,
+    Nodes,
+    cell_atoms,
+    cells,
+    perpendicular_kurtosis,
+    regression_step,
+)
+
+#: On noisy scans the neighbourhoods reach this many times the noise level (at most
+#: `MAX_REACH` radii): wide enough that the regression line follows the curve, not the scatter.
+NOISE_REACH = 5.0
+#: Widest neighbourhood, in radii: wider ones would round off features of a few radii.
+MAX_REACH = 4.0
+#: Kurtosis of the perpendicular scatter above which it counts as noise (a Gaussian has 3; two
+#: sharp walls side by side have 1, a flat band 1.8).
+NOISE_KURTOSIS = 2.2
+#: The noise is measured over this many radii: wide enough that a scatter of up to radius / 2
+#: is not cut off.
+NOISE_WINDOW = 3.0
+#: Seeds at which the noise is measured: fewer (600) made the estimate wobble enough to raise
+#: false merge notes on noisy glyphs.
+NOISE_SEEDS = 2000
+#: Regression passes: later passes see a neighbourhood centred on the curve.
+REGRESSION_PASSES = 3
+
+
+def noise_adaptive_nodes(pts: FloatArray, radius: float) -> tuple[Nodes, Atoms]:
+    """Centroid and principal axes of the neighbourhood of each occupied cell of radius / 2,
+    and the atoms they were summed over.
+
+    The neighbourhoods have the fixed ``radius``, or on a noisy scan `NOISE_REACH` x the noise
+    level (up to `MAX_REACH` x radius), so that they stay longer along the curve than across it.
+    """
+    atoms = cell_atoms(pts, radius)
+    inverse, counts = cells(atoms.cell // (ATOM_DIVISIONS // 2), atoms.weight)  # radius / 2
+    xy = np.column_stack([np.bincount(inverse, atoms.weight * atoms.xy[:, k])
+                          for k in range(2)]) / counts[:, None]
+    noise = noise_level(xy, atoms, radius)
+    reach = min(max(radius, NOISE_REACH * noise), MAX_REACH * radius)
+    if reach > radius:  # coarser atoms keep the wider neighbourhoods' sums cheap
+        atoms = cell_atoms(pts, reach, min_per_cell=1.0)
+    for _ in range(REGRESSION_PASSES):
+        xy, tangent, ratio, spread = regression_step(xy, atoms, reach)
+    return Nodes(xy, tangent, ratio, spread, reach, noise), atoms
+
+
+def noise_level(seeds: FloatArray, atoms: Atoms, radius: float, sample: int = NOISE_SEEDS) -> float:
+    """Typical scatter of the points about their curve: the median perpendicular spread about
+    the regression lines at a sample of the seeds, over `NOISE_WINDOW` radii.
+
+    Only bell-shaped scatter is noise: where the perpendicular offsets have a kurtosis below
+    `NOISE_KURTOSIS` (two walls side by side, each sharp, or a flat band) the spread is a shape
+    of the data, counted as no noise, so that neighbourhoods stay narrow enough to see it.
+    """
+    pick = np.random.default_rng(0).choice(len(seeds), min(sample, len(seeds)), replace=False)
+    xy = seeds[pick]
+    for _ in range(2):
+        xy, tangent, _, spread = regression_step(xy, atoms, NOISE_WINDOW * radius)
+    kurtosis = perpendicular_kurtosis(xy, tangent, atoms, NOISE_WINDOW * radius)
+    return float(np.median(np.where(kurtosis >= NOISE_KURTOSIS, spread, 0.0)))

@@ -1,0 +1,48 @@
+"""How independent work runs: in this process, or in a local process pool.
+
+A job is a picklable record and the work a module-level pure function, so the same jobs can go
+to another engine (a cluster) without changing the stages.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable, Iterable, Sequence
+from concurrent.futures import ProcessPoolExecutor
+from typing import TypeVar
+
+from .errors import ParameterError
+
+Job = TypeVar("Job")
+Result = TypeVar("Result")
+
+
+def resolve_workers(workers: int | None) -> int:
+    """The number of processes to use: all cores when None; at least 1."""
+    count = (os.cpu_count() or 1) if workers is None else int(workers)
+    if count < 1:
+        raise ParameterError(f"workers must be 1 or more, not {workers}")
+    return count
+
+
+def run_jobs(work: Callable[[Job], Result], jobs: Sequence[Job], workers: int | None = None,
+             progress: Callable[[int, int], None] | None = None) -> list[Result]:
+    """``[work(job) for job in jobs]``, in order, on ``workers`` processes (1: this process).
+
+    ``progress(done, total)`` is called after each job, in order.
+    """
+    count = resolve_workers(workers)
+    if count == 1 or len(jobs) <= 1:
+        return _collect(map(work, jobs), len(jobs), progress)
+    with ProcessPoolExecutor(max_workers=min(count, len(jobs))) as pool:
+        return _collect(pool.map(work, jobs, chunksize=1), len(jobs), progress)
+
+
+def _collect(results: Iterable[Result], total: int,
+             progress: Callable[[int, int], None] | None) -> list[Result]:
+    out = []
+    for k, res in enumerate(results):
+        out.append(res)
+        if progress:
+            progress(k + 1, total)
+    return out
