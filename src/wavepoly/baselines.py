@@ -74,7 +74,7 @@ def min_vertices(points: FloatArray, tolerance: float, closed: bool = False) -> 
     if n <= (3 if closed else 2):
         return np.arange(n)
     u = _index_params(n)
-    _, kept = select_vertices(pts, u, pts, u, closed, tolerance)
+    _, kept = select_vertices(pts, u, pts, u, closed, tolerance, simple=False)
     return np.searchsorted(u, kept)
 
 
@@ -97,7 +97,8 @@ def min_vertices_covering(ordered: FloatArray, closed: bool, points: FloatArray,
     if closed:
         params = np.mod(params, 1.0)
     try:
-        _, kept = select_vertices(ordered, vparams, points, params, closed, tolerance)
+        _, kept = select_vertices(ordered, vparams, points, params, closed, tolerance,
+                                  simple=False)
     except RuntimeError:  # some point is out of reach of every chord: no covering subset
         return np.arange(len(ordered))
     return np.searchsorted(vparams, kept)

@@ -11,8 +11,10 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
+from dataclasses import replace
 
 import numpy as np
+import shapely
 
 from .errors import ParameterError
 from .geometry import nest_contours, orient_by_depth
@@ -25,12 +27,14 @@ from .types import (
     ContourReport,
     FitResult,
     FloatArray,
+    IntArray,
     OrderedContour,
     Pyramid,
     Reconstruction,
     within,
 )
 from .validate import check_relative_tolerance, check_tolerance, validate_points
+from .validity import check_contours, obstacle_tree, split_at_crossings_of, without_repeats
 
 STAGES = ("ordering", "decomposition", "reconstruction", "verification")
 
@@ -67,16 +71,25 @@ def fit(points: FloatArray, tolerance: float, *,
     t0 = time.perf_counter()
     ordering = order_points(pts, radius, seed=seed)
     timings["ordering"] = time.perf_counter() - t0
-    contours, reports = [], []
-    for k, oc in enumerate(ordering.contours):
-        contour, report, times = fit_contour(pts, oc, tolerance, relative_tolerance)
-        contours.append(contour)
-        reports.append(report)
+    n = len(ordering.contours)
+    contours: list[Contour | None] = [None] * n
+    reports: list[ContourReport | None] = [None] * n
+    near = _neighbours(pts, ordering.contours, tolerance)
+    # the longest first: each later contour keeps clear of the ones already fixed near it
+    for done, k in enumerate(np.argsort([-len(oc.members) for oc in ordering.contours],
+                                        kind="stable")):
+        fixed = [contours[j] for j in near[k] if contours[j] is not None]
+        contours[k], reports[k], times = fit_contour(pts, ordering.contours[k], tolerance,
+                                                     relative_tolerance, obstacle_tree(fixed))
         for stage, seconds in times.items():
             timings[stage] += seconds
         if progress:
-            progress(k + 1, len(ordering.contours))
+            progress(done + 1, n)
     t0 = time.perf_counter()
+    validity = check_contours(contours)
+    if not validity.valid:  # the fallback: junctions where polygons still cross
+        contours, reports = _split_crossings(contours, reports)
+        validity = check_contours(contours)
     parents = nest_contours(contours)
     contours = orient_by_depth(contours, parents)
     errors = np.concatenate([[c.max_error] for c in contours]) if contours else np.zeros(1)
@@ -88,13 +101,48 @@ def fit(points: FloatArray, tolerance: float, *,
     if not contours:
         notes.append("no contour found: every point is an outlier at this radius")
     return FitResult(contours, tolerance, float(errors.max()), float(mean), ordering.outliers,
-                     len(pts), parents, reports, timings, tuple(notes))
+                     len(pts), parents, reports, timings, tuple(notes), validity=validity)
+
+
+def _split_crossings(contours: list[Contour], reports: list[ContourReport]
+                     ) -> tuple[list[Contour], list[ContourReport]]:
+    """Contours that still cross, split at the crossing points into open pieces that meet
+    there (a junction): the lines drawn are the same, so every point keeps its distance."""
+    pieces = split_at_crossings_of([c.vertices for c in contours], [c.closed for c in contours])
+    out_c, out_r = [], []
+    for k, (c, r) in enumerate(zip(contours, reports)):
+        for xy in pieces.get(k, [c.vertices]):
+            closed = c.closed and k not in pieces
+            out_c.append(Contour(xy, closed, c.max_error, c.mean_error))
+            out_r.append(r if closed == r.closed else replace(r, closed=False,
+                                                              final_vertices=len(xy)))
+    return out_c, out_r
+
+
+def _neighbours(points: FloatArray, ordered: list[OrderedContour], tolerance: float
+                ) -> list[IntArray]:
+    """For each contour, the other contours whose boxes come within 2 x tolerance of its own:
+    the only ones its polygon could meet (it lies within the tolerance of its points)."""
+    if not ordered:
+        return []
+    boxes = []
+    for oc in ordered:
+        xy = np.vstack([oc.points, points[oc.members]]) if len(oc.members) else oc.points
+        lo, hi = xy.min(axis=0) - 2 * tolerance, xy.max(axis=0) + 2 * tolerance
+        boxes.append(shapely.box(lo[0], lo[1], hi[0], hi[1]))
+    tree = shapely.STRtree(boxes)
+    mine, other = tree.query(boxes, predicate="intersects")
+    keep = mine != other
+    order = np.argsort(mine[keep], kind="stable")
+    bounds = np.searchsorted(mine[keep][order], np.arange(len(ordered) + 1))
+    return [other[keep][order][bounds[k]:bounds[k + 1]] for k in range(len(ordered))]
 
 
 def fit_contour(points: FloatArray, oc: OrderedContour, tolerance: float,
-                relative_tolerance: float | None
+                relative_tolerance: float | None, obstacles: shapely.STRtree | None = None
                 ) -> tuple[Contour, ContourReport, dict[str, float]]:
-    """Decompose (§3) and reconstruct (§4) one ordered contour, verified within tolerance.
+    """Decompose (§3) and reconstruct (§4) one ordered contour, verified within tolerance and
+    clear of the ``obstacles`` (the edges of contours already fixed near it).
 
     Returns the contour, its report and the seconds spent in each stage.
     """
@@ -102,11 +150,13 @@ def fit_contour(points: FloatArray, oc: OrderedContour, tolerance: float,
     t0 = time.perf_counter()
     pyramid = decompose_contour(oc.points, oc.closed, tolerance, relative_tolerance)
     t1 = time.perf_counter()
-    rec = _best_reconstruction(pyramid, oc.points, members, tolerance, relative_tolerance)
+    rec = _best_reconstruction(pyramid, oc.points, members, tolerance, relative_tolerance,
+                               obstacles)
     times = {"decomposition": t1 - t0, "reconstruction": time.perf_counter() - t1}
     if not within(rec.max_error, tolerance):  # the repair makes this impossible; never hide it
         raise RuntimeError(f"internal error: contour error {rec.max_error} > {tolerance}")
-    contour = Contour(rec.vertices, oc.closed, rec.max_error, rec.mean_error)
+    contour = Contour(without_repeats(rec.vertices, oc.closed), oc.closed, rec.max_error,
+                      rec.mean_error)
     report = ContourReport(
         input_points=len(oc.members), ordered_points=len(oc.points), closed=oc.closed,
         levels_decomposed=pyramid.finest - rec.start_level, finest_level=pyramid.finest,
@@ -117,12 +167,14 @@ def fit_contour(points: FloatArray, oc: OrderedContour, tolerance: float,
 
 
 def _best_reconstruction(pyramid: Pyramid, ordered: FloatArray, members: FloatArray,
-                         tolerance: float, relative_tolerance: float | None) -> Reconstruction:
+                         tolerance: float, relative_tolerance: float | None,
+                         obstacles: shapely.STRtree | None) -> Reconstruction:
     if relative_tolerance is not None:
-        return reconstruct_contour(pyramid, ordered, members, tolerance)
+        return reconstruct_contour(pyramid, ordered, members, tolerance, obstacles=obstacles)
     best = None
     for level in auto_start_levels(pyramid, tolerance):
-        rec = reconstruct_contour(pyramid, ordered, members, tolerance, start_level=level)
+        rec = reconstruct_contour(pyramid, ordered, members, tolerance, start_level=level,
+                                  obstacles=obstacles)
         if best is None or len(rec.vertices) < len(best.vertices):
             best = rec
     assert best is not None

@@ -22,6 +22,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import shapely
 from scipy.spatial import cKDTree
 
 from . import wavelets
@@ -227,7 +228,8 @@ def _covered(points: FloatArray, owner: IntArray, coeffs: FloatArray, run_id: In
 
 
 def reconstruct_contour(pyramid: Pyramid, ordered: FloatArray, points: FloatArray,
-                        tolerance: float, start_level: int | None = None) -> Reconstruction:
+                        tolerance: float, start_level: int | None = None,
+                        obstacles: shapely.STRtree | None = None) -> Reconstruction:
     """The concise polygon of one contour (§4), verified against its data ``points``.
 
     Parameters
@@ -237,6 +239,8 @@ def reconstruct_contour(pyramid: Pyramid, ordered: FloatArray, points: FloatArra
     points : (n, 2) original data points of the contour.
     tolerance : shape tolerance; every point ends within it of the polygon.
     start_level : level to start extracting from (default: the pyramid's coarsest).
+    obstacles : edges of the contours already fixed nearby, which the polygon must not meet
+        (`wavepoly.simplify.select_vertices`).
     """
     closed = pyramid.closed
     level = pyramid.coarsest if start_level is None else start_level
@@ -266,7 +270,7 @@ def reconstruct_contour(pyramid: Pyramid, ordered: FloatArray, points: FloatArra
     order = np.argsort(np.mod(cand_u, 1.0) if closed else cand_u, kind="stable")
     backbone = np.flatnonzero(order < len(vertices))  # the repaired, verified polygon
     chosen, chosen_u = select_vertices(cand[order], cand_u[order], points, params, closed,
-                                       tolerance, backbone=backbone)
+                                       tolerance, backbone=backbone, obstacles=obstacles)
     # the cone test is exact up to rounding; the repaired polygon stays the fallback
     if own_edge_distance(chosen, chosen_u, points, params, closed).max(initial=0.0) <= (
             tolerance * (1 + SLACK)):

@@ -31,10 +31,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import shapely
 from scipy.ndimage import maximum_filter1d
 
 from .geometry import hull_candidates, segment_distance
 from .types import SLACK, FloatArray, IntArray
+from .validity import bad_edges
 
 #: Angular round-off (radians) allowed when a chord's direction meets a cone's bound.
 ANGLE_SLACK = 1e-12
@@ -83,14 +85,26 @@ def own_edge_distance(vertices: FloatArray, vparams: FloatArray, points: FloatAr
 
 def select_vertices(vertices: FloatArray, vparams: FloatArray, points: FloatArray,
                     params: FloatArray, closed: bool, tolerance: float,
-                    backbone: IntArray | None = None) -> tuple[FloatArray, FloatArray]:
-    """The fewest of the polygon's own vertices that keep every point within ``tolerance``.
+                    backbone: IntArray | None = None,
+                    obstacles: shapely.STRtree | None = None, simple: bool = True
+                    ) -> tuple[FloatArray, FloatArray]:
+    """The fewest of the polygon's own vertices that keep every point within ``tolerance``,
+    and whose polygon is simple and meets no edge of ``obstacles``.
 
     A chord from vertex a to vertex b is feasible when every point whose parameter lies between
     theirs is within the tolerance of it (the own-edge invariant of the repair, so the result
     is verified by construction). The shortest path over feasible chords (Imai & Iri) is the
     optimal subset of an open contour. On a closed contour every start in a window that any
     polygon must have a vertex in is tried (`_closed_starts`), and the best is kept.
+
+    Validity is part of feasibility: a chord of the chosen path that meets an obstacle edge
+    (the contours already fixed nearby), or meets another chord of the path (a self-crossing
+    or a fold), is made infeasible and the path is solved again, until the path is valid
+    (`MAX_VALIDITY_ROUNDS`). Chords that meet obstacles are infeasible whatever the rest of the
+    path, so the result is the optimum under that constraint; a crossing between two chords
+    forbids both, which keeps the result valid at the cost of, rarely, a vertex. The edges of
+    the ``backbone`` (the verified polygon) are never forbidden, so a path always exists.
+    ``simple=False`` (and no obstacles) gives the classic, unconstrained min-# optimum.
     """
     k = len(vertices)
     if k <= (3 if closed else 2):
@@ -108,11 +122,34 @@ def select_vertices(vertices: FloatArray, vparams: FloatArray, points: FloatArra
         vertices2 = vertices
     feasible = _feasible_chords(Frame(vertices2, u, pts, prm), tolerance * (1 + SLACK),
                                 max_span=k if closed else k - 1, periodic=closed)
+    fixed: set[tuple[int, int]] = set()
     if backbone is not None and len(backbone) >= 2:
-        _allow_backbone(feasible, backbone, k, closed)
+        fixed = _allow_backbone(feasible, backbone, k, closed)
+    path = _best_path(feasible, k, closed)
+    for _ in range(MAX_VALIDITY_ROUNDS if simple or obstacles is not None else 0):
+        bad = _invalid_chords(vertices, path, k, closed, obstacles, fixed)
+        if not bad:
+            break
+        for a, b in bad:
+            _forbid(feasible, a, b, k, closed)
+        try:
+            path = _best_path(feasible, k, closed)
+        except RuntimeError:  # nothing valid through these candidates: the caller's fallback
+            break
+    keep = np.sort(path[:-1] % k) if closed else path
+    return vertices[keep], vparams[keep]
+
+
+#: Rounds of forbidding the chords that break validity and solving again; each round removes
+#: every bad chord of the current path, and real contours settle within a few.
+MAX_VALIDITY_ROUNDS = 50
+
+
+def _best_path(feasible: list[np.ndarray], k: int, closed: bool) -> IntArray:
+    """The fewest-edge path over the feasible chords (closed: unrolled, from a start s to
+    s + k)."""
     if not closed:
-        path = shortest_path(feasible, 0, k - 1)
-        return vertices[path], vparams[path]
+        return shortest_path(feasible, 0, k - 1)
     best = None
     for start in _closed_starts(feasible, k):
         try:
@@ -123,8 +160,25 @@ def select_vertices(vertices: FloatArray, vparams: FloatArray, points: FloatArra
             best = path
     if best is None:
         raise RuntimeError("internal error: no feasible polygon")
-    keep = np.sort(best[:-1] % k)
-    return vertices[keep], vparams[keep]
+    return best
+
+
+def _invalid_chords(vertices: FloatArray, path: IntArray, k: int, closed: bool,
+                    obstacles: shapely.STRtree | None, fixed: set[tuple[int, int]]
+                    ) -> list[tuple[int, int]]:
+    """Chords (a, b) of ``path`` that break validity and may be forbidden."""
+    ring = path[:-1] if closed else path
+    bad = bad_edges(vertices[ring % k], closed, obstacles)
+    ends = np.column_stack([path[:-1], path[1:]])[bad]
+    return [(int(a), int(b)) for a, b in ends if (int(a) % k, int(b) - int(a)) not in fixed]
+
+
+def _forbid(feasible: list[np.ndarray], a: int, b: int, k: int, closed: bool) -> None:
+    """Mark chord (a, b) infeasible (on a closed contour, on both turns of the unrolling)."""
+    rows = (a % k, a % k + k) if closed else (a,)
+    for row in rows:
+        if row < len(feasible) and b - a - 1 < len(feasible[row]):
+            feasible[row][b - a - 1] = False
 
 
 def feasible_chords(vertices: FloatArray, vparams: FloatArray, points: FloatArray,
@@ -159,9 +213,10 @@ def _hull_of_each_gap(pts: FloatArray, prm: FloatArray, u: FloatArray
 
 
 def _allow_backbone(feasible: list[np.ndarray], backbone: IntArray, k: int, closed: bool
-                    ) -> None:
+                    ) -> set[tuple[int, int]]:
     """Mark the edges of an already verified polygon (vertex indices ``backbone``) feasible,
-    so that a path always exists; the caller verifies the choice again."""
+    so that a path always exists; the caller verifies the choice again. Returns the edges as
+    (start vertex, span) pairs."""
     a = backbone if not closed else np.concatenate([backbone, backbone + k])
     b = np.roll(a, -1)[:-1]
     a = a[:-1]
@@ -172,6 +227,7 @@ def _allow_backbone(feasible: list[np.ndarray], backbone: IntArray, k: int, clos
             if y - x > len(feasible[x]):  # beyond where the cone test stopped
                 feasible[x] = np.pad(feasible[x], (0, y - x - len(feasible[x])))
             feasible[x][y - x - 1] = True
+    return {(int(x) % k, int(y - x)) for x, y in zip(a, b)}
 
 
 def _closed_starts(feasible: list[np.ndarray], k: int) -> IntArray:

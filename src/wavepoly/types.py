@@ -101,6 +101,39 @@ class Contour:
 
 
 @dataclass(frozen=True)
+class Problem:
+    """One way a result's geometry is not valid: what, which contours, and where."""
+
+    kind: str  # "self-intersection", "degenerate polygon", "crossing", "touching"
+    contours: tuple[int, ...]
+    where: tuple[float, float]
+
+    def __str__(self) -> str:
+        which = " and ".join(str(c) for c in self.contours)
+        return (f"{self.kind} of contour{'s' if len(self.contours) > 1 else ''} {which} "
+                f"at ({self.where[0]:.6g}, {self.where[1]:.6g})")
+
+
+@dataclass(frozen=True)
+class Validity:
+    """The geometry check of a result (`wavepoly.validity.check_contours`)."""
+
+    n_closed: int
+    n_open: int
+    problems: tuple[Problem, ...] = ()
+
+    @property
+    def valid(self) -> bool:
+        return not self.problems
+
+    def __str__(self) -> str:
+        counts = f"{self.n_closed} closed, {self.n_open} open"
+        if self.valid:
+            return f"{counts}, all valid"
+        return f"{counts}, {len(self.problems)} invalid: {self.problems[0]}"
+
+
+@dataclass(frozen=True)
 class ContourReport:
     """Per-contour figures of a fit (the report JSON holds these)."""
 
@@ -140,6 +173,7 @@ class FitResult:
     timings: dict[str, float] = field(default_factory=dict)
     notes: tuple[str, ...] = ()
     z: float | None = None
+    validity: Validity | None = None
 
     @property
     def n_vertices(self) -> int:

@@ -14,7 +14,7 @@ from ..errors import DataError
 from ..geometry import nesting_depth
 from ..types import SliceResult
 from .atomic import atomic_path, write_text_atomic
-from .writers import svg_document, write_geojson
+from .writers import check_valid, svg_document, write_geojson
 
 LAYER_FORMATS = ("cli", "svg", "geojson", "json", "stl")
 
@@ -26,6 +26,8 @@ def write_layers(path: str | Path, result: SliceResult, *, fmt: str | None = Non
     ``units`` is the length of one coordinate unit in millimetres (the CLI header's $$UNITS).
     """
     fmt = (fmt or Path(path).suffix.lstrip(".")).lower()
+    if fmt in LAYER_FORMATS:
+        check_valid(path, [la.fit for la in result.layers])
     if fmt == "cli":
         write_text_atomic(path, cli_document(result, units=units))
     elif fmt == "svg":

@@ -30,9 +30,18 @@ def fit_report(result: FitResult, source: str) -> dict:
                                                        r.mscs_per_level.items()}}
                      for r in result.reports],
         "vertices": result.n_vertices, "outliers": len(result.outliers),
-        "outlier_indices": result.outliers.tolist(), "timings": result.timings,
-        "notes": list(result.notes),
+        "outlier_indices": result.outliers.tolist(), "validity": validity_report(result),
+        "timings": result.timings, "notes": list(result.notes),
     }
+
+
+def validity_report(result: FitResult) -> dict:
+    """Closed and open contour counts, and whether (or where not) the geometry is valid."""
+    v = result.validity
+    n_closed = sum(c.closed for c in result.contours)
+    return {"closed": n_closed, "open": len(result.contours) - n_closed,
+            "valid": v.valid if v is not None else None,
+            "problems": [str(p) for p in v.problems] if v is not None else []}
 
 
 def fit_summary(result: FitResult) -> list[str]:
@@ -42,7 +51,9 @@ def fit_summary(result: FitResult) -> list[str]:
         lines.append(f"contour {k}: {'closed' if c.closed else 'open  '} {r.input_points:7d} "
                      f"points -> {r.ordered_points:6d} ordered -> {r.wavelet_vertices:5d} "
                      f"wavelet -> {r.final_vertices:4d} vertices, max error {c.max_error:.4g}")
-    lines.append(f"{result.n_points} points -> {len(result.contours)} contours, "
+    shape = (str(result.validity) if result.validity is not None else
+             f"{sum(c.closed for c in result.contours)} closed")
+    lines.append(f"{result.n_points} points -> {len(result.contours)} contours ({shape}), "
                  f"{result.n_vertices} vertices, max error {result.max_error:.4g} "
                  f"(tolerance {result.tolerance:.4g}), {len(result.outliers)} outliers")
     lines += [f"note: {note}" for note in result.notes]
@@ -73,9 +84,14 @@ def slice_summary(result: SliceResult) -> str:
     n_contours = sum(len(la.fit.contours) for la in result.layers)
     n_within = sum(within(la.model_error, result.tolerance) for la in result.layers
                    if la.slab_points)  # a layer with points but no contour is not within
+    contours = [c for la in result.layers for c in la.fit.contours]
+    n_closed = sum(c.closed for c in contours)
+    n_invalid = sum(len(la.fit.validity.problems) for la in result.layers
+                    if la.fit.validity is not None)
     return (f"{result.n_points} points -> {len(result.layers)} layers "
             f"({'adaptive' if result.adaptive else 'uniform'}, thickness {thick.min():.4g}"
-            f"-{thick.max():.4g}), {n_contours} contours, {result.n_vertices} vertices, "
+            f"-{thick.max():.4g}), {n_contours} contours ({n_closed} closed, "
+            f"{n_contours - n_closed} open, {n_invalid} invalid), {result.n_vertices} vertices, "
             f"layer model error {result.model_error:.4g} (tolerance {result.tolerance:g}; "
             f"{n_within} of {sum(la.slab_points > 0 for la in result.layers)} layers within it)")
 

@@ -34,7 +34,17 @@ def write_polygons(path: str | Path, result: FitResult, *, fmt: str | None = Non
     if writer is None:
         raise DataError(f"{path}: unknown polygon format '.{fmt}' "
                         f"(known: {', '.join(POLYGON_FORMATS)})")
+    check_valid(path, [result])
     writer(path, [result])
+
+
+def check_valid(path: str | Path, results: Sequence[FitResult]) -> None:
+    """Refuse to write geometry that a CAD tool, a slicer or a GIS would reject or misread."""
+    for k, r in enumerate(results):
+        if r.validity is not None and not r.validity.valid:
+            where = f" (layer {k})" if len(results) > 1 else ""
+            raise DataError(f"{path}: not written: the result is not valid geometry{where}: "
+                            f"{r.validity.problems[0]}")
 
 
 def _ring(vertices: np.ndarray) -> list[list[float]]:

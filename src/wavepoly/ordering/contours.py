@@ -16,6 +16,7 @@ from ..geometry import farther_than
 from ..types import Chain, FloatArray, IntArray, OrderedContour
 from .marching import CORNER_TURN, turning
 from .neighbourhoods import Nodes
+from .untangle import split_at_crossings, untangle
 
 #: Chains shorter than this cannot hold a corner with two legs of two points each.
 MIN_CORNER_NODES = 6
@@ -72,10 +73,12 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
         kept[own] = _still_vertices(nodes.xy[seq], xy)[at[own]]
         unsure = np.flatnonzero(~(kept & (dist[members] <= CORNER_GAP * radius)))
         xy, far = _cover_cut_corners(xy, pts[members[unsure]], closed, radius)
+        xy = untangle(xy, closed)
         inside = np.ones(len(members), dtype=bool)
         inside[unsure[far]] = False
         outliers.append(members[~inside])
         contours.append(OrderedContour(xy, closed, members[inside]))  # sorted: stable argsort
+    contours = split_at_crossings(contours, pts)
     return contours, np.sort(np.concatenate(outliers)).astype(np.intp)
 
 

@@ -1,0 +1,151 @@
+"""Validity is part of the guarantee: simple polygons, no crossings, junctions only at ends."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import wavepoly
+from wavepoly import DataError
+from wavepoly.ordering.untangle import crossing_edges, untangle
+from wavepoly.samples import glyph_outlines, sample_rings
+from wavepoly.types import Contour, FitResult
+from wavepoly.validity import check_contours, split_at_crossings_of
+
+from .conftest import distance_to_output, independent_problems
+
+
+def _within(points, result):
+    inliers = np.setdiff1d(np.arange(len(points)), result.outliers)
+    assert distance_to_output(points[inliers], result).max() <= result.tolerance * (1 + 1e-9)
+
+
+def _valid(points, result):
+    _within(points, result)
+    assert result.validity is not None and result.validity.valid, result.validity
+    assert independent_problems(result) == []
+
+
+# -- the check itself ---------------------------------------------------------------------------
+
+
+def test_check_finds_each_kind_of_problem():
+    square = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
+    bowtie = np.array([[0, 0], [1, 1], [1, 0], [0, 1]], float)
+    v = check_contours([Contour(bowtie, True)])
+    assert [p.kind for p in v.problems] == ["self-intersection"]
+    assert np.allclose(v.problems[0].where, (0.5, 0.5))
+    v = check_contours([Contour(square, True), Contour(square + 0.5, True)])
+    assert [p.kind for p in v.problems] == ["crossing"]
+    v = check_contours([Contour(square, True), Contour(square + [1, 0], True)])
+    assert [p.kind for p in v.problems] == ["touching"]
+    zigzag = np.array([[0, 0], [2, 0], [1, -1], [1, 1]], float)
+    assert [p.kind for p in check_contours([Contour(zigzag, False)]).problems] == [
+        "self-intersection"]
+    # strokes meeting at an end point (a T and an L junction) are valid
+    bar = np.array([[0, 0], [2, 0]], float)
+    stem = np.array([[1, 0], [1, 1]], float)
+    ell = np.array([[2, 0], [2, 1]], float)
+    v = check_contours([Contour(bar, False), Contour(stem, False), Contour(ell, False)])
+    assert v.valid and (v.n_closed, v.n_open) == (0, 3)
+    # but a stroke crossing another is not
+    cross = np.array([[1, -1], [1, 1]], float)
+    assert not check_contours([Contour(bar, False), Contour(cross, False)]).valid
+
+
+def test_split_at_crossings_makes_a_junction():
+    a = np.array([[0.0, 0.0], [2.0, 0.0]])
+    b = np.array([[1.0, -1.0], [1.0, 1.0]])
+    pieces = split_at_crossings_of([a, b], [False, False])
+    assert sorted(pieces) == [0, 1] and all(len(p) == 2 for p in pieces.values())
+    for parts in pieces.values():
+        assert all(np.allclose(p[-1], [1, 0]) or np.allclose(p[0], [1, 0]) for p in parts)
+    contours = [Contour(p, False) for parts in pieces.values() for p in parts]
+    assert check_contours(contours).valid
+
+
+def test_untangle_removes_a_crossing_and_keeps_the_points():
+    ring = np.array([[0, 0], [2, 0], [0, 1], [2, 1]], float)  # 0-1-2-3 crosses itself
+    assert len(crossing_edges(ring, True))
+    fixed = untangle(ring, True)
+    assert not len(crossing_edges(fixed, True))
+    assert sorted(map(tuple, fixed)) == sorted(map(tuple, ring))
+
+
+def test_invalid_results_are_not_written(tmp_path):
+    bowtie = np.array([[0, 0], [1, 1], [1, 0], [0, 1]], float)
+    contours = [Contour(bowtie, True)]
+    result = FitResult(contours, 0.1, 0.0, 0.0, np.empty(0, np.intp), 4,
+                       validity=check_contours(contours))
+    with pytest.raises(DataError, match="not valid.*self-intersection.*0.5, 0.5"):
+        wavepoly.write_polygons(tmp_path / "out.geojson", result)
+    assert list(tmp_path.iterdir()) == []
+
+
+# -- fits: properties ---------------------------------------------------------------------------
+
+
+@st.composite
+def glyph_union(draw):
+    """A few glyphs side by side, some close enough for their outlines to nearly touch."""
+    text = draw(st.text(alphabet="BOSW8&kx%e", min_size=1, max_size=3))
+    eps = draw(st.sampled_from([0.02, 0.04, 0.08]))
+    noise = draw(st.floats(0.0, 0.25)) * eps
+    seed = draw(st.integers(0, 10**6))
+    pts = sample_rings(glyph_outlines(text, height=1.0).rings, spacing=eps / 3, noise=noise,
+                       seed=seed)
+    return pts, eps
+
+
+@settings(max_examples=10, deadline=None)
+@given(glyph_union())
+def test_property_valid_and_within_tolerance_on_glyphs(case):
+    pts, eps = case
+    _valid(pts, wavepoly.fit(pts, eps))
+
+
+@settings(max_examples=10, deadline=None)
+@given(st.floats(1.5, 4.0), st.floats(0.0, 0.25), st.booleans(), st.integers(0, 10**6))
+def test_property_near_touching_and_nested_rings(gap, noise, nested, seed):
+    """Two rings a few tolerances apart, side by side or one inside the other."""
+    eps = 0.05
+    rng = np.random.default_rng(seed)
+    t = rng.uniform(0, 2 * np.pi, (2, 3000))
+    inner = 1.0 - gap * eps if nested else 1.0
+    centre = 0.0 if nested else 2.0 + gap * eps
+    pts = np.vstack([np.column_stack([np.cos(t[0]), np.sin(t[0])]),
+                     np.column_stack([centre + inner * np.cos(t[1]), inner * np.sin(t[1])])])
+    pts += rng.normal(scale=noise * eps, size=pts.shape)
+    result = wavepoly.fit(pts, eps)
+    _valid(pts, result)
+    assert sorted(c.closed for c in result.contours) == [True, True]
+    assert len(result.outliers) == 0
+
+
+# -- regression: the shared cases ---------------------------------------------------------------
+
+
+@pytest.mark.parametrize("name, eps", [
+    ("noisy_sets/crab_2percent_noise.txt", 0.0422), ("noisy_sets/Keyboard0.txt", 0.00609),
+    ("noisy_sets/fish.txt", 0.02), ("noisy_sets/bot.txt", 0.02),
+    ("hnn_crust/crocodile-conf.p2d", 0.02)])
+def test_shared_silhouettes_come_out_valid(shared_data, name, eps):
+    pts = wavepoly.as_planar(wavepoly.read_points(shared_data / "curves2d" / name))
+    _valid(pts, wavepoly.fit(pts, eps))
+
+
+@pytest.mark.parametrize("eps", [0.05, 0.1])
+def test_intel_map_comes_out_valid(shared_data, eps):
+    pts = wavepoly.read_points(shared_data / "lidar2d" / "intel-corrected.log.gz")
+    _valid(pts, wavepoly.fit(pts, eps))
+
+
+def test_keyboard_silhouette_is_two_closed_outlines(shared_data):
+    """The ordering used to march back across a thin part of the outline (a self-crossing
+    that every polygon in that order inherits); untangled, it is two simple polygons."""
+    pts = wavepoly.read_points(shared_data / "curves2d" / "noisy_sets" / "Keyboard0.txt")
+    result = wavepoly.fit(pts, 0.00609)
+    _valid(pts, result)
+    assert [c.closed for c in result.contours] == [True, True]
