@@ -9,7 +9,7 @@ import time
 
 from .common import DOCS
 
-PARTS = ["wavelets", "ordering", "fit", "peers", "scaling", "slicing", "figures"]
+PARTS = ["wavelets", "ordering", "fit", "validity", "peers", "scaling", "slicing", "figures"]
 
 
 def main(argv: list[str]) -> None:

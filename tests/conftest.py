@@ -33,32 +33,3 @@ def distance_to_output(points: np.ndarray, result) -> np.ndarray:
     union = shapely.union_all(geoms)
     return shapely.distance(shapely.points(points), union)
 
-
-def independent_problems(result) -> list[str]:
-    """What a GIS or CAD user would check, with shapely directly: every closed contour a valid
-    polygon, every open one simple, no two contours meeting except at an open one's end."""
-    problems = []
-    geoms = []
-    for k, c in enumerate(result.contours):
-        if c.closed:
-            poly = shapely.Polygon(c.vertices)
-            if not poly.is_valid or poly.area <= 0:
-                problems.append(f"contour {k}: {shapely.is_valid_reason(poly)}")
-            geoms.append(shapely.LinearRing(c.vertices))
-        else:
-            line = shapely.LineString(c.vertices)
-            if not line.is_simple:
-                problems.append(f"contour {k}: open and not simple")
-            geoms.append(line)
-    for i in range(len(geoms)):
-        for j in range(i + 1, len(geoms)):
-            meet = geoms[i].intersection(geoms[j])
-            if meet.is_empty:
-                continue
-            ends = [c.vertices[[0, -1]] for c in (result.contours[i], result.contours[j])
-                    if not c.closed]
-            if ends:
-                meet = meet.difference(shapely.MultiPoint(np.concatenate(ends)).buffer(1e-9))
-            if not meet.is_empty:
-                problems.append(f"contours {i} and {j} meet: {meet.geom_type}")
-    return problems

@@ -14,7 +14,8 @@ from wavepoly.samples import glyph_outlines, sample_rings
 from wavepoly.types import Contour, FitResult
 from wavepoly.validity import check_contours, split_at_crossings_of
 
-from .conftest import distance_to_output, independent_problems
+from .conftest import distance_to_output
+from .truth import independent_problems
 
 
 def _within(points, result):
@@ -149,3 +150,32 @@ def test_keyboard_silhouette_is_two_closed_outlines(shared_data):
     result = wavepoly.fit(pts, 0.00609)
     _valid(pts, result)
     assert [c.closed for c in result.contours] == [True, True]
+
+
+def test_small_loops_and_strokes_are_contours_not_outliers():
+    """A loop or a stroke of 4 tolerances, beside a big outline, is a contour (a hoof in a leg
+    slice), not a group of outliers."""
+    eps = 0.05
+    rng = np.random.default_rng(5)
+    t = rng.uniform(0, 2 * np.pi, 6000)
+    big = np.column_stack([2 * np.cos(t), 2 * np.sin(t)])
+    t = rng.uniform(0, 2 * np.pi, 40)
+    loop = np.column_stack([3 + 2 * eps * np.cos(t), 2 * eps * np.sin(t)])
+    s = rng.uniform(0, 4 * eps, 30)
+    stroke = np.column_stack([-3 + s, 0.5 + 0 * s])
+    pts = np.vstack([big, loop, stroke]) + rng.normal(scale=eps / 8, size=(6070, 2))
+    result = wavepoly.fit(pts, eps)
+    _valid(pts, result)
+    assert len(result.outliers) == 0
+    assert sorted(c.closed for c in result.contours) == [False, True, True]
+
+
+def test_a_tolerance_below_the_scatter_is_said_and_a_better_one_suggested():
+    rng = np.random.default_rng(2)
+    t = rng.uniform(0, 2 * np.pi, 20000)
+    pts = np.column_stack([np.cos(t), np.sin(t)]) * 3 + rng.normal(scale=0.03, size=(20000, 2))
+    low = wavepoly.fit(pts, 0.04)
+    assert low.suggested_tolerance is not None and 0.07 <= low.suggested_tolerance <= 0.12
+    assert "try" in wavepoly.fit_summary(low)[-len(low.notes) - 1]
+    _valid(pts, low)
+    assert wavepoly.fit(pts, low.suggested_tolerance).suggested_tolerance is None

@@ -64,6 +64,7 @@ class Ordering:
     radius: the neighbourhood radius actually used (may be wider than asked, see `notes`).
     merged_walls: (m, 2) positions where two nearby walls appear merged into one contour.
     notes: human-readable remarks (radius widened, walls merged, ...).
+    noise: the typical scatter of the points about their curves (0 for clean samples).
     """
 
     contours: list[OrderedContour]
@@ -71,6 +72,7 @@ class Ordering:
     radius: float
     merged_walls: FloatArray = field(default_factory=lambda: np.empty((0, 2)))
     notes: tuple[str, ...] = ()
+    noise: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -160,6 +162,10 @@ class FitResult:
     max_error / mean_error: achieved distances of the input points to the output.
     outliers: indices of input points outside the guarantee (reported by the ordering).
     reports: per-contour figures; timings: seconds per stage; notes: remarks of the stages.
+    validity: the geometry check (`wavepoly.validity.check_contours`).
+    suggested_tolerance: set when the tolerance is below the scan's scatter (the curves then
+        zigzag through the noise or lose points as outliers): a tolerance that gives clean
+        curves.
     """
 
     contours: list[Contour]
@@ -174,6 +180,7 @@ class FitResult:
     notes: tuple[str, ...] = ()
     z: float | None = None
     validity: Validity | None = None
+    suggested_tolerance: float | None = None
 
     @property
     def n_vertices(self) -> int:

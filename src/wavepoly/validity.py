@@ -318,5 +318,5 @@ def _pieces(xy: FloatArray, closed: bool, cuts: list[tuple[int, float, FloatArra
         bounds = [p - at[0] for p in at] + [len(line) - 1]
     else:
         bounds = sorted({0, *at, len(line) - 1})
-    pieces = [line[s:e + 1] for s, e in zip(bounds[:-1], bounds[1:])]
-    return [p for p in pieces if len(p) >= 2 and np.ptp(p, axis=0).max() > 0]
+    pieces = [without_repeats(line[s:e + 1], False) for s, e in zip(bounds[:-1], bounds[1:])]
+    return [p for p in pieces if len(p) >= 2]  # a piece of one point (round-off) is no line

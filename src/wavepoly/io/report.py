@@ -31,6 +31,7 @@ def fit_report(result: FitResult, source: str) -> dict:
                      for r in result.reports],
         "vertices": result.n_vertices, "outliers": len(result.outliers),
         "outlier_indices": result.outliers.tolist(), "validity": validity_report(result),
+        "suggested_tolerance": result.suggested_tolerance,
         "timings": result.timings, "notes": list(result.notes),
     }
 
@@ -55,7 +56,9 @@ def fit_summary(result: FitResult) -> list[str]:
              f"{sum(c.closed for c in result.contours)} closed")
     lines.append(f"{result.n_points} points -> {len(result.contours)} contours ({shape}), "
                  f"{result.n_vertices} vertices, max error {result.max_error:.4g} "
-                 f"(tolerance {result.tolerance:.4g}), {len(result.outliers)} outliers")
+                 f"(tolerance {result.tolerance:.4g}), {len(result.outliers)} outliers"
+                 + (f"; the tolerance is below the scan's scatter: try "
+                    f"{result.suggested_tolerance:g}" if result.suggested_tolerance else ""))
     lines += [f"note: {note}" for note in result.notes]
     return lines
 

@@ -109,4 +109,4 @@ def order_points(points: FloatArray, radius: float, *, seed: int = 0, min_points
                      "surface)")
     contours, outliers = contours_of(pts, atoms.tree, nodes, chains, absorbed, radius,
                                      min_points)
-    return Ordering(contours, outliers, radius, merged, tuple(notes))
+    return Ordering(contours, outliers, radius, merged, tuple(notes), nodes.noise)
