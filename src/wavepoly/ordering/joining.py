@@ -36,6 +36,10 @@ MIN_CLOSING_NODES = 4
 #: neither end faces the other (the march crossed between a notch's walls).
 LONG_CHAIN_NODES = 16
 LONG_CLOSE_GAP = 3.0
+#: A long chain closes across up to this many R when one end points at the other: at the tip
+#: of a sharp notch the neighbourhoods sit between the walls, and the march on the second wall
+#: stops several R short of the tip where the first wall's end is.
+CLOSING_GAP = 8.0
 
 
 def join_ends(nodes: Nodes, links: IntArray) -> IntArray:
@@ -69,7 +73,7 @@ def _mutual_nearest_ends(nodes: Nodes, links: IntArray, free: IntArray, degree: 
     outward = _outward(nodes.xy, links, free, degree)
     k = min(JOIN_CANDIDATES, len(free))
     dist, nbr = cKDTree(nodes.xy[free]).query(nodes.xy[free], k=k,
-                                              distance_upper_bound=FACING_GAP * reach)
+                                              distance_upper_bound=CLOSING_GAP * reach)
     best = np.full(len(free), -1)
     for col in range(1, k):
         cand = np.minimum(nbr[:, col], len(free) - 1)
@@ -94,8 +98,14 @@ def _mutual_nearest_ends(nodes: Nodes, links: IntArray, free: IntArray, degree: 
         ok &= ~(lone & ~lone_other & (ahead_other <= 0))
         ok &= ~(lone_other & ~lone & (ahead <= 0))
         facing = ((ahead > FACING_COS * dist[:, col])
-                  & (ahead_other > FACING_COS * dist[:, col]))
-        ok &= (dist[:, col] <= ANY_DIRECTION_GAP * reach) | facing
+                  & (ahead_other > FACING_COS * dist[:, col])
+                  & (dist[:, col] <= FACING_GAP * reach))
+        # a long chain closes across a wider gap when one of its ends points at the other: at
+        # the tip of a sharp notch the march runs out on one wall and the other wall's end
+        # points back along it
+        closing = same & (size[comp[free]] >= LONG_CHAIN_NODES) & (
+            (ahead > FACING_COS * dist[:, col]) | (ahead_other > FACING_COS * dist[:, col]))
+        ok &= (dist[:, col] <= ANY_DIRECTION_GAP * reach) | facing | closing
         best[ok] = cand[ok]
     mutual = (best >= 0) & (best[np.maximum(best, 0)] == np.arange(len(free)))
     pairs = np.column_stack([free[mutual], free[best[mutual]]])
