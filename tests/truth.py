@@ -100,3 +100,47 @@ def independent_problems(result) -> list[str]:
             if not meet.is_empty:
                 problems.append(f"contours {i} and {j} meet: {meet.geom_type}")
     return problems
+
+
+def layer_agreement(mesh, result, eps: float) -> list[dict]:
+    """Each layer against the exact section of ``mesh`` at its mid-plane: valid, closed,
+    Hausdorff distance between the boundaries (in ε), and the area between the two regions
+    (their symmetric difference) against the section's perimeter x ε. ``right`` when valid,
+    closed, Hausdorff <= 1.5 ε and the area below perimeter x ε."""
+    from wavepoly.sections import mesh_section
+    from wavepoly.staircase import region
+    from wavepoly.types import Contour
+
+    rows = []
+    for layer in result.layers:
+        truth = [Contour(xy, closed) for xy, closed in mesh_section(mesh, result.basis, layer.z)]
+        got = layer.fit.contours
+        row = {"z": layer.z, "truth": len(truth), "contours": len(got),
+               "valid": layer.fit.validity is None or layer.fit.validity.valid,
+               "closed": all(c.closed for c in got) and bool(got) == bool(truth)}
+        if truth and got:
+            lines = [shapely.linearrings(c.vertices) if c.closed else
+                     shapely.linestrings(c.vertices) for c in truth]
+            drawn = [shapely.linearrings(c.vertices) if c.closed else
+                     shapely.linestrings(c.vertices) for c in got]
+            hd = shapely.hausdorff_distance(shapely.union_all(lines), shapely.union_all(drawn),
+                                            densify=0.05)
+            a, b = region(truth), region(got)
+            perimeter = sum(line.length for line in lines)
+            row.update(hausdorff=hd / eps, area_ratio=(b.area / a.area if a.area else np.nan),
+                       sym_diff=shapely.symmetric_difference(a, b).area / (perimeter * eps))
+        else:
+            row.update(hausdorff=0.0 if not truth and not got else np.inf,
+                       area_ratio=np.nan, sym_diff=0.0 if not truth and not got else np.inf)
+        row["right"] = bool(row["valid"] and row["closed"] and row["hausdorff"] <= 1.5
+                            and row["sym_diff"] < 1.0)
+        rows.append(row)
+    return rows
+
+
+def noisy_surface_cloud(mesh, n: int, sigma: float, seed: int = 0) -> np.ndarray:
+    """``n`` points sampled uniformly on the mesh's faces, with Gaussian noise ``sigma``."""
+    import trimesh
+
+    pts, _ = trimesh.sample.sample_surface(mesh, n, seed=seed)
+    return pts + np.random.default_rng(seed).normal(scale=sigma, size=pts.shape)

@@ -1,21 +1,22 @@
 """Slicing a 3D scan into a layer model (paper §1, §5 example 2, Fig. 7).
 
 The cloud is cut by planes across ``axis``. Each layer stands for the slab of the cloud between
-its bottom and its top; the points of a band around the layer's mid-plane are projected onto it
-and fitted (`wavepoly.fit`: several contours, holes, open curves where the scan has gaps). The
-stack of layers, each extruded by its thickness, is the layer-based (stair-step) model for
-rapid prototyping.
+its bottom and its top, and its contours are the object's cross-section at the layer's
+mid-plane: every slab point whose surface crosses the mid-plane slides along its tangent plane
+onto it (`wavepoly.sections`), and those points are fitted within the tolerance
+(`wavepoly.fit`: several contours, holes, open curves where the scan has gaps). The stack of
+layers, each its contours extruded from its bottom to its top, is the layer-based (stair-step)
+model for rapid prototyping; its error is 3D: the distance from each cloud point to the
+surface of the stack (`wavepoly.staircase`), reported per layer.
 
-Uniform layers have one thickness and project the whole slab. Adaptive layers (Wu, Wong, Loh
-& Zhang 2004, "Modelling cloud data using an adaptive slicing approach") are as thick as the
-shape allows: a candidate slab's mid-plane band is fitted within tolerance / 2 and the slab is
-accepted when every slab point lies within the tolerance, in its plane, of those contours; the
-thickness grows from the previous layer's while that holds and shrinks when it fails, between
-``min_layer`` and ``max_layer``. The error of the layer model is measured either way and
-reported per layer; only layers at ``min_layer`` can exceed the tolerance (caps, ledges).
+Uniform layers have one thickness. Adaptive layers (Wu, Wong, Loh & Zhang 2004) are as thick
+as the shape allows: a candidate layer's section is fitted within tolerance / 2 and the layer
+is accepted when the staircase error of its slab stays within the tolerance; the thickness
+grows from the previous layer's while that holds and shrinks when it fails, between
+``min_layer`` and ``max_layer``.
 
-Layers are independent: `fit_layer` is a pure function of (band points, parameters), run in a
-local process pool here and ready for a cluster engine.
+Layers are independent once planned: `fit_layer_job` is a pure function of a `LayerJob` (the
+section points and the parameters), run in a local process pool here and ready for a cluster.
 
 >>> import numpy as np
 >>> rng = np.random.default_rng(0)
@@ -36,8 +37,9 @@ import numpy as np
 
 from .errors import DataError, ParameterError
 from .fit import fit
-from .geometry import distance_to_contours
 from .parallel import run_jobs
+from .sections import section_points, surface_samples
+from .staircase import layer_errors, slab_errors
 from .types import (
     DEFAULT_RELATIVE_TOLERANCE,
     FitResult,
@@ -45,6 +47,7 @@ from .types import (
     Layer,
     LayerJob,
     SliceResult,
+    SurfaceSamples,
     within,
 )
 from .validate import check_relative_tolerance, check_tolerance, validate_points
@@ -56,6 +59,8 @@ MAX_LAYERS = 100_000
 LAYER_COUNT_SLACK = 1e-9
 #: Adaptive thicknesses grow and shrink by this factor per trial (Wu et al. use a similar step).
 GROWTH = 1.25
+#: Fewer section points than this make no contour (a speck where a cap grazes the plane).
+MIN_SECTION_POINTS = 8
 
 
 def plane_basis(axis: str | FloatArray) -> FloatArray:
@@ -83,19 +88,20 @@ def slice_cloud(points3d: FloatArray, tolerance: float, *, axis: str | FloatArra
                 relative_tolerance: float | None = DEFAULT_RELATIVE_TOLERANCE,
                 workers: int | None = None,
                 progress: Callable[[int, int], None] | None = None) -> SliceResult:
-    """Slice a 3D cloud into layers and fit each layer's contours within ``tolerance``.
+    """Slice a 3D cloud into layers whose contours are its cross-sections within ``tolerance``.
 
     Parameters
     ----------
     points3d : (N, 3) cloud.
-    tolerance : shape tolerance, in the cloud's units (in-plane distance).
+    tolerance : shape tolerance, in the cloud's units: each layer's contours are within it of
+        the section points; adaptive layers also keep the 3D staircase error within it.
     axis : slicing direction: ``"x"``, ``"y"``, ``"z"`` or a 3-vector.
     layer_thickness : thickness of uniform layers (required unless ``adaptive``).
     adaptive : choose each thickness in [min_layer, max_layer] to keep the layer model within
         the tolerance (see the module docstring).
     min_layer, max_layer : bounds of adaptive thicknesses (default: 2 and 20 x tolerance).
-    band : thickness of the band of points projected onto each layer's mid-plane. Default:
-        the whole slab for uniform layers, ``min_layer`` for adaptive ones.
+    band : if given, only slab points within ``band / 2`` of the mid-plane are used for the
+        section (default: every point whose surface reaches the mid-plane).
     relative_tolerance : eq. 7 threshold passed to `wavepoly.fit` (None: automatic).
     workers : processes for uniform layers' fits (default: all cores; 1 runs in this process);
         adaptive layers are fitted in sequence, each thickness depending on the fit.
@@ -106,52 +112,54 @@ def slice_cloud(points3d: FloatArray, tolerance: float, *, axis: str | FloatArra
         raise DataError(f"cloud: slicing needs (N, 3) points, got {pts.shape[1]} columns")
     tolerance = check_tolerance(tolerance)
     relative_tolerance = check_relative_tolerance(relative_tolerance)
+    band = check_tolerance(band, "band") if band is not None else None
     basis = plane_basis(axis)
     t0 = time.perf_counter()
-    height = pts @ basis[2]
-    order = np.argsort(height, kind="stable")
-    height, uv = height[order], pts[order] @ basis[:2].T
+    uvh = pts @ basis.T
+    uvh = uvh[np.argsort(uvh[:, 2], kind="stable")]
+    surface = surface_samples(uvh)
     if adaptive:
         lo = check_tolerance(min_layer if min_layer is not None else 2 * tolerance, "min_layer")
         hi = check_tolerance(max_layer if max_layer is not None else 20 * tolerance, "max_layer")
         if lo > hi:
             raise ParameterError(f"min_layer {lo:g} is thicker than max_layer {hi:g}")
-        band = check_tolerance(band, "band") if band is not None else lo
-        plan = adaptive_layers(height, uv, _Bounds(tolerance, lo, hi, band,
-                                                   relative_tolerance), progress)
+        plan = adaptive_layers(surface, _Bounds(tolerance, lo, hi, band, relative_tolerance),
+                               progress)
         bottoms = np.array([p[0] for p in plan])
         thick = np.array([p[1] for p in plan])
         fits = [p[2] for p in plan]
-        bands = [_band(height, b + t / 2, min(band, t)) for b, t in zip(bottoms, thick)]
-        errors = [_model_error(uv[slice(*np.searchsorted(height, [b, b + t]))], res)
-                  for b, t, res in zip(bottoms, thick, fits)]
         planning, fitting = time.perf_counter() - t0, 0.0
     else:
         if layer_thickness is None:
             raise ParameterError("give a layer thickness, or adaptive=True with its bounds")
         step = check_tolerance(layer_thickness, "layer_thickness")
-        bottoms, thick = uniform_layers(height[0], height[-1], step)
-        band = check_tolerance(band, "band") if band is not None else None
+        bottoms, thick = uniform_layers(uvh[0, 2], uvh[-1, 2], step)
+        jobs = [LayerJob(_section(surface, b, t, band), tolerance, relative_tolerance,
+                         float(b + t / 2)) for b, t in zip(bottoms, thick)]
         planning = time.perf_counter() - t0
-        bands = [_band(height, b + t / 2, t if band is None else min(band, t)) for b, t in
-                 zip(bottoms, thick)]
-        slabs = [np.searchsorted(height, [b, b + t]) for b, t in zip(bottoms, thick)]
-        jobs = [LayerJob(uv[s0:s1], (int(i0 - s0), int(i1 - s0)), tolerance,
-                         relative_tolerance, float(b + t / 2))
-                for (i0, i1), (s0, s1), b, t in zip(bands, slabs, bottoms, thick)]
         t0 = time.perf_counter()
-        fits, errors = zip(*run_jobs(fit_layer_job, jobs, workers, progress))
+        fits = run_jobs(fit_layer_job, jobs, workers, progress)
         fitting = time.perf_counter() - t0
     t0 = time.perf_counter()
+    errors = layer_errors(uvh, bottoms, bottoms + thick, [f.contours for f in fits])
     layers = []
-    for (i0, i1), b, t, res, err in zip(bands, bottoms, thick, fits, errors):
-        s0, s1 = np.searchsorted(height, [b, b + t])
-        layers.append(Layer(float(b), float(t), (float(height[i0]) if i1 > i0 else b,
-                                                 float(height[i1 - 1]) if i1 > i0 else b),
-                            res, int(s1 - s0), err))
+    for b, t, res, err in zip(bottoms, thick, fits, errors):
+        s0, s1 = np.searchsorted(uvh[:, 2], [b, b + t])
+        layers.append(Layer(float(b), float(t), (float(b), float(b + t)), res, int(s1 - s0),
+                            err))
+    layers = _trim_empty_ends(layers, tolerance)
     notes = _notes(layers, tolerance)
     timings = {"planning": planning, "fitting": fitting, "model_error": time.perf_counter() - t0}
     return SliceResult(layers, basis, tolerance, adaptive, len(pts), timings, tuple(notes))
+
+
+def _section(surface: SurfaceSamples, bottom: float, thickness: float, band: float | None
+             ) -> FloatArray:
+    """The section points of the layer [bottom, bottom + thickness) at its mid-plane."""
+    mid = bottom + thickness / 2
+    half = thickness / 2 if band is None else min(band, thickness) / 2
+    rows = slice(*np.searchsorted(surface.uvh[:, 2], [mid - half, mid + half]))
+    return section_points(surface, rows, mid)
 
 
 def uniform_layers(low: float, high: float, thickness: float) -> tuple[FloatArray, FloatArray]:
@@ -165,41 +173,43 @@ def uniform_layers(low: float, high: float, thickness: float) -> tuple[FloatArra
 
 @dataclass(frozen=True)
 class _Bounds:
-    """What an adaptive layer must meet: the tolerance, the thickness bounds, the band fitted
-    on each trial's mid-plane, and the eq. 7 threshold."""
+    """What an adaptive layer must meet: the tolerance, the thickness bounds, the band of
+    section points (None: the slab), and the eq. 7 threshold."""
 
     tolerance: float
     min_layer: float
     max_layer: float
-    band: float
+    band: float | None
     relative_tolerance: float | None = DEFAULT_RELATIVE_TOLERANCE
 
 
-def adaptive_layers(height: FloatArray, uv: FloatArray, bounds: _Bounds,
+def adaptive_layers(surface: SurfaceSamples, bounds: _Bounds,
                     progress: Callable[[int, int], None] | None = None
                     ) -> list[tuple[float, float, FitResult]]:
-    """(bottom, thickness, fit) of adaptive layers over points sorted by ``height``.
+    """(bottom, thickness, fit) of adaptive layers over a cloud sorted by height.
 
-    Each layer starts from the previous thickness; it grows by `GROWTH` while the slab stays
-    within the tolerance of its band's contours (fitted within tolerance / 2) and shrinks by the
-    same factor when it does not, within [min_layer, max_layer].
+    Each layer starts from the previous thickness; it grows by `GROWTH` while its slab's
+    staircase error stays within the tolerance (the section fitted within tolerance / 2) and
+    shrinks by the same factor when it does not, within [min_layer, max_layer].
     """
+    height = surface.uvh[:, 2]
     plan: list[tuple[float, float, FitResult]] = []
     z, top, t = float(height[0]), float(height[-1]), bounds.max_layer
     total = max(1, int(np.ceil((top - z) / bounds.min_layer)))
     while z < top or not plan:
-        res, ok = _try_layer(height, uv, z, t, bounds)
+        below = plan[-1][2].contours if plan else None
+        res, ok = _try_layer(surface, z, t, bounds, below)
         if ok:
             while t < bounds.max_layer:
                 bigger = min(bounds.max_layer, t * GROWTH)
-                res2, ok2 = _try_layer(height, uv, z, bigger, bounds)
+                res2, ok2 = _try_layer(surface, z, bigger, bounds, below)
                 if not ok2:
                     break
                 t, res = bigger, res2
         else:
             while not ok and t > bounds.min_layer:
                 t = max(bounds.min_layer, t / GROWTH)
-                res, ok = _try_layer(height, uv, z, t, bounds)
+                res, ok = _try_layer(surface, z, t, bounds, below)
         plan.append((z, t, res))
         z += t
         if progress:
@@ -207,35 +217,31 @@ def adaptive_layers(height: FloatArray, uv: FloatArray, bounds: _Bounds,
     return plan
 
 
-def _try_layer(height: FloatArray, uv: FloatArray, bottom: float, thickness: float,
-               bounds: _Bounds) -> tuple[FitResult, bool]:
-    """Fit the mid-plane band within tolerance / 2; is every slab point within tolerance?"""
+def _try_layer(surface: SurfaceSamples, bottom: float, thickness: float, bounds: _Bounds,
+               below: list | None) -> tuple[FitResult, bool]:
+    """Fit the section within tolerance / 2; is the slab's staircase error within tolerance
+    (against the layer below, and with the top face taken as exposed)?"""
     mid = bottom + thickness / 2
-    b0, b1 = _band(height, mid, min(bounds.band, thickness))
-    res = fit_layer(uv[b0:b1], bounds.tolerance / 2, bounds.relative_tolerance, mid)
-    s0, s1 = np.searchsorted(height, [bottom, bottom + thickness])
+    res = fit_layer(_section(surface, bottom, thickness, bounds.band), bounds.tolerance / 2,
+                    bounds.relative_tolerance, mid)
+    s0, s1 = np.searchsorted(surface.uvh[:, 2], [bottom, bottom + thickness])
     if s1 == s0:
         return res, True
-    return res, within(_model_error(uv[s0:s1], res), bounds.tolerance)
-
-
-def _model_error(slab: FloatArray, res: FitResult) -> float:
-    if not len(slab):
-        return 0.0
-    return float(distance_to_contours(slab, res.contours).max())
-
-
-def _band(height: FloatArray, mid: float, width: float) -> tuple[int, int]:
-    i0, i1 = np.searchsorted(height, [mid - width / 2, mid + width / 2])
-    return int(i0), int(i1)
+    errs = slab_errors(surface.uvh[s0:s1], bottom, bottom + thickness, res.contours, below,
+                       None)
+    return res, within(float(errs.max()), bounds.tolerance)
 
 
 def fit_layer(points: FloatArray, tolerance: float, relative_tolerance: float | None,
               z: float) -> FitResult:
-    """The fit of one layer's projected band points (a pure function: safe in any worker).
+    """The fit of one layer's section points (a pure function: safe in any worker).
 
-    A band with too few points gives a layer with no contour and a note, not an error.
+    Too few points (the plane misses the object, or grazes a cap) give a layer with no contour
+    and a note, not an error.
     """
+    if len(points) < MIN_SECTION_POINTS:
+        return FitResult([], tolerance, 0.0, 0.0, np.arange(len(points)), len(points),
+                         notes=(f"no contour: {len(points)} section point(s)",), z=z)
     try:
         res = fit(points, tolerance, relative_tolerance=relative_tolerance)
     except DataError as exc:
@@ -244,21 +250,34 @@ def fit_layer(points: FloatArray, tolerance: float, relative_tolerance: float | 
     return replace(res, z=z)
 
 
-def fit_layer_job(job: LayerJob) -> tuple[FitResult, float]:
-    """Fit a layer's band (``job.slab[band]``) and measure its whole slab against the fit."""
-    b0, b1 = job.band
-    res = fit_layer(job.slab[b0:b1], job.tolerance, job.relative_tolerance, job.z)
-    return res, _model_error(job.slab, res)
+def fit_layer_job(job: LayerJob) -> FitResult:
+    """Fit a layer's section points (``job.section``) on its mid-plane."""
+    return fit_layer(job.section, job.tolerance, job.relative_tolerance, job.z)
+
+
+def _trim_empty_ends(layers: list[Layer], tolerance: float) -> list[Layer]:
+    """Without the first and last layers that have no section and whose points all lie within
+    the tolerance of their neighbour's face (the tip of a dome): they add nothing."""
+    def empty(la: Layer) -> bool:
+        return not la.fit.contours and within(la.model_error, tolerance)
+
+    lo, hi = 0, len(layers)
+    while hi - lo > 1 and empty(layers[hi - 1]):
+        hi -= 1
+    while hi - lo > 1 and empty(layers[lo]):
+        lo += 1
+    return layers[lo:hi]
 
 
 def _notes(layers: list[Layer], tolerance: float) -> list[str]:
     notes = []
     empty = [k for k, la in enumerate(layers) if not la.fit.contours and la.slab_points]
     if empty:
-        notes.append(f"{len(empty)} layer(s) with points but no contour (too few or too "
-                     f"scattered), e.g. layer {empty[0]}")
-    over = [k for k, la in enumerate(layers) if la.fit.contours and la.model_error > tolerance]
+        notes.append(f"{len(empty)} layer(s) with points but no section at the mid-plane "
+                     f"(caps, or too few points), e.g. layer {empty[0]}")
+    over = [k for k, la in enumerate(layers) if la.model_error > tolerance]
     if over:
-        notes.append(f"{len(over)} layer(s) where slab points lie beyond the tolerance of the "
-                     "layer's contours (caps and ledges inside a slab, or thick layers on slopes)")
+        notes.append(f"{len(over)} layer(s) whose staircase error exceeds the tolerance "
+                     "(thick layers on slopes, or caps inside a slab): thinner or adaptive "
+                     "layers keep it within")
     return notes

@@ -273,15 +273,30 @@ class Reconstruction:
 
 
 @dataclass(frozen=True)
+class SurfaceSamples:
+    """A cloud in plane coordinates with what is known of its surface at each point.
+
+    uvh: (N, 3) plane coordinates and height, sorted by height; normals: (N, 3) unit normals
+    of the local tangent planes; low, high: height range of each point's neighbourhood;
+    radius: the neighbourhood's radius.
+    """
+
+    uvh: FloatArray
+    normals: FloatArray
+    low: FloatArray
+    high: FloatArray
+    radius: FloatArray
+
+
+@dataclass(frozen=True)
 class LayerJob:
     """What one layer's fit needs, and nothing more (it travels to a worker process).
 
-    slab: (n, 2) plane coordinates of the slab's points; band: the slice ``slab[band[0]:
-    band[1]]`` fitted on the mid-plane ``z``; the whole slab is measured against the fit.
+    section: (m, 2) plane coordinates of the points on the layer's mid-plane section, fitted
+    on the mid-plane at height ``z``.
     """
 
-    slab: FloatArray
-    band: tuple[int, int]
+    section: FloatArray
     tolerance: float
     relative_tolerance: float | None
     z: float
@@ -292,11 +307,12 @@ class Layer:
     """One layer of the model.
 
     bottom, thickness: the slab [bottom, bottom + thickness) along the axis that it stands for.
-    band: (low, high) heights of the points projected and fitted.
-    fit: the layer's fit, in plane coordinates (see `SliceResult.basis`), with ``fit.z`` the
-        mid-plane height.
-    slab_points: cloud points in the slab; model_error: the largest in-plane distance of a
-        slab point to the layer's contours (inf when the layer has none).
+    band: (low, high) heights of the points whose section points were fitted.
+    fit: the layer's fit of its mid-plane section, in plane coordinates (see
+        `SliceResult.basis`), with ``fit.z`` the mid-plane height.
+    slab_points: cloud points in the slab; model_error: the largest distance of a slab point
+        to the surface of the stacked layers, the staircase error (inf when the layer has
+        points and no contour).
     """
 
     bottom: float
@@ -331,9 +347,9 @@ class SliceResult:
 
     @property
     def model_error(self) -> float:
-        """Largest in-plane distance of a cloud point to the contours of its layer (layers
-        with no contour are counted in `notes` instead)."""
-        errs = [la.model_error for la in self.layers if la.slab_points and la.fit.contours]
+        """Largest distance of a cloud point to the surface of the stacked layers, the 3D
+        staircase error (`wavepoly.staircase`)."""
+        errs = [la.model_error for la in self.layers if la.slab_points]
         return max(errs) if errs else 0.0
 
     @property

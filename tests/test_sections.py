@@ -1,0 +1,83 @@
+"""Layers are the object's true cross-sections: checked against the exact mesh sections."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import wavepoly
+from wavepoly.sections import mesh_section, section_points, surface_samples
+from wavepoly.slicing import plane_basis
+
+from .truth import layer_agreement, noisy_surface_cloud
+
+
+def _mesh(shared_data, name):
+    import trimesh
+
+    return trimesh.load(shared_data / "scans3d" / name, process=False)
+
+
+def test_a_sloped_band_becomes_a_line_on_the_mid_plane():
+    """A cone's slab spreads over a band as wide as the slab times the slope; slid along the
+    surface, its points lie on the circle of the cone's section at the mid-plane."""
+    rng = np.random.default_rng(0)
+    h = rng.uniform(0, 10, 60000)
+    t = rng.uniform(0, 2 * np.pi, 60000)
+    r = 10 - 0.8 * h  # a cone: the radius shrinks by 0.8 per unit of height
+    cloud = np.column_stack([r * np.cos(t), r * np.sin(t), h])
+    uvh = cloud[np.argsort(h)]
+    surface = surface_samples(uvh)
+    rows = slice(*np.searchsorted(uvh[:, 2], [4.0, 6.0]))
+    band = np.hypot(*uvh[rows, :2].T)
+    assert np.ptp(band) > 1.5  # the slab's points spread over 1.6 units of radius
+    sec = section_points(surface, rows, 5.0)
+    radius = np.hypot(*sec.T)
+    assert len(sec) > 0.2 * (rows.stop - rows.start)  # those whose surface reaches z = 5
+    assert np.abs(radius - 6.0).max() < 0.02
+
+
+def test_a_cap_inside_the_slab_gives_no_section():
+    """A cylinder's flat top lies inside the slab but below its mid-plane: no section there."""
+    rng = np.random.default_rng(1)
+    t = rng.uniform(0, 2 * np.pi, 30000)
+    side = np.column_stack([3 * np.cos(t), 3 * np.sin(t), rng.uniform(0, 5, 30000)])
+    rr, tt = 3 * np.sqrt(rng.uniform(0, 1, 10000)), rng.uniform(0, 2 * np.pi, 10000)
+    top = np.column_stack([rr * np.cos(tt), rr * np.sin(tt), np.full(10000, 5.0)])
+    uvh = np.vstack([side, top])
+    uvh = uvh[np.argsort(uvh[:, 2])]
+    surface = surface_samples(uvh)
+    rows = slice(*np.searchsorted(uvh[:, 2], [4.5, 6.5]))
+    assert len(section_points(surface, rows, 5.5)) == 0
+    assert abs(np.hypot(*section_points(surface, rows, 4.6).T).mean() - 3.0) < 0.01
+
+
+def test_mesh_section_of_a_box_is_its_rectangle():
+    import trimesh
+
+    box = trimesh.creation.box(extents=(4.0, 2.0, 1.0))
+    [(xy, closed)] = mesh_section(box, plane_basis("z"), 0.1)
+    assert closed and len(xy) >= 4
+    assert np.allclose(np.ptp(xy, axis=0), [4.0, 2.0])
+
+
+@pytest.mark.parametrize("name, axis, right", [("turbineblade.ply", "z", 0.8),
+                                               ("bunny_zipper.ply", "y", 0.3)])
+def test_uniform_layers_match_the_exact_sections(shared_data, name, axis, right):
+    """Clouds sampled from the meshes' faces with noise 0.1 % of the diagonal, ε = 5 σ:
+    each layer against the mesh's section at its mid-plane."""
+    mesh = _mesh(shared_data, name)
+    diag = float(np.linalg.norm(mesh.extents))
+    sigma = 0.001 * diag
+    eps = 5 * sigma
+    cloud = noisy_surface_cloud(mesh, 300_000, sigma)
+    res = wavepoly.slice_cloud(cloud, eps, axis=axis, layer_thickness=diag / 60, workers=2)
+    rows = layer_agreement(mesh, res, eps)
+    assert all(r["valid"] for r in rows)
+    assert np.mean([r["right"] for r in rows]) >= right
+    hausdorff = np.array([r["hausdorff"] for r in rows])
+    assert np.median(hausdorff) <= 2.0
+    closed_truth = [r for r in rows if r["truth"] == 1]
+    assert np.mean([r["closed"] for r in closed_truth]) >= 0.85
+    sym = np.array([r["sym_diff"] for r in closed_truth])
+    assert np.mean(sym < 1.0) >= 0.85
