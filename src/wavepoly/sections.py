@@ -11,8 +11,8 @@ wall it does not move sideways; on a slope of angle φ to the axis it moves by
 (their section would be placed no better than the noise times cot φ). A point is only
 moved where its own neighbourhood reaches the mid-plane (the surface it stands for is known
 there), so a cap or a ledge inside the slab that does not cross the mid-plane gives no section
-points, and nothing is extrapolated past an end of the object. Thus a band becomes a line of points with the scan's noise, which the fit turns into
-the section within ε.
+points, and nothing is extrapolated past an end of the object. Thus a band becomes a line
+of points with the scan's noise, which the fit turns into the section within ε.
 
 This was chosen over weighting the points nearest to the mid-plane because it uses every
 point whose surface crosses the plane, corrects the first-order offset of sloped surfaces
