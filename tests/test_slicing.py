@@ -103,8 +103,10 @@ def test_layer_files_read_back(tmp_path):
     res = slice_cloud(pts, 0.1, layer_thickness=2.0, workers=1)
     layers = read_cli(cli_document(res))
     assert len(layers) == 3
+    offset = -res.layers[0].bottom  # the part stands on the build plate
+    assert all(top > 0 for top, _ in layers)
     for (top, polys), layer in zip(layers, res.layers):
-        assert np.isclose(top, layer.top, atol=1e-6)
+        assert np.isclose(top, layer.top + offset, atol=1e-6)
         assert sorted(d for d, _ in polys) == [0, 1]  # an outer contour and its hole
         for direction, xy in polys:
             assert np.allclose(xy[0], xy[-1])  # closed polylines repeat their first point
@@ -119,11 +121,14 @@ def test_layer_files_read_back(tmp_path):
     assert {f["properties"]["layer"] for f in doc["features"]} == {0, 1, 2}
     assert all(f["geometry"]["type"] == "Polygon" and len(f["geometry"]["coordinates"]) == 2
                for f in doc["features"])
-    mesh = trimesh.load(tmp_path / "tube.stl")
-    bodies = mesh.split(only_watertight=False)
-    assert len(bodies) == 3 and all(b.is_watertight for b in bodies)
     ring_area = np.pi * (6.0**2 - 3.0**2)
+    mesh = trimesh.load(tmp_path / "tube.stl")
+    assert mesh.is_watertight and mesh.is_winding_consistent and mesh.body_count == 1
     assert mesh.volume == pytest.approx(ring_area * 6.0, rel=0.05)
+    write_layers(tmp_path / "bodies.stl", res, separate=True)
+    bodies = trimesh.load(tmp_path / "bodies.stl").split(only_watertight=False)
+    assert len(bodies) == 3 and all(b.is_watertight for b in bodies)
+    assert sum(b.volume for b in bodies) == pytest.approx(ring_area * 6.0, rel=0.05)
 
 
 def test_bad_slicing_input_is_named():

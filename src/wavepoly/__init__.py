@@ -24,6 +24,7 @@ from .io import (
     fit_report,
     fit_summary,
     ordering_summary,
+    read_mesh,
     read_points,
     slice_report,
     slice_summary,
@@ -33,7 +34,7 @@ from .io import (
     write_report,
 )
 from .ordering import curve_spacing, median_spacing, order_points
-from .slicing import slice_cloud
+from .slicing import slice_cloud, slice_mesh
 from .types import (
     DEFAULT_RELATIVE_TOLERANCE,
     Contour,
@@ -51,10 +52,10 @@ try:
 except PackageNotFoundError:  # pragma: no cover - running from a source tree
     __version__ = "0.0.0"
 
-__all__ = ["DEFAULT_RELATIVE_TOLERANCE", "LAYER_FORMATS", "POLYGON_FORMATS", "Contour",
-           "ContourReport", "DataError", "FitResult", "Layer", "OrderedContour", "Ordering",
+__all__ = ["Contour", "ContourReport", "DEFAULT_RELATIVE_TOLERANCE", "DataError", "FitResult",
+           "LAYER_FORMATS", "Layer", "OrderedContour", "Ordering", "POLYGON_FORMATS",
            "ParameterError", "SliceResult", "WavepolyError", "__version__", "as_planar",
-           "curve_spacing", "detect_format", "fit", "fit_report", "fit_summary",
-           "median_spacing", "order_points", "ordering_summary", "read_points", "slice_cloud",
-           "slice_report", "slice_summary", "validate_points", "write_layers", "write_points",
-           "write_polygons", "write_report"]
+           "curve_spacing", "detect_format", "fit", "fit_report", "fit_summary", "median_spacing",
+           "order_points", "ordering_summary", "read_mesh", "read_points", "slice_cloud",
+           "slice_mesh", "slice_report", "slice_summary", "validate_points", "write_layers",
+           "write_points", "write_polygons", "write_report"]

@@ -184,8 +184,12 @@ def slice_command(
     adaptive: Annotated[bool, typer.Option(help="Adaptive layer thickness.")] = False,
     min_layer: Annotated[float | None, typer.Option(help="Thinnest adaptive layer.")] = None,
     max_layer: Annotated[float | None, typer.Option(help="Thickest adaptive layer.")] = None,
-    band: Annotated[float | None, typer.Option(help="Thickness of the band projected onto "
-                                                    "each layer's plane.")] = None,
+    band: Annotated[float | None, typer.Option(help="Use only slab points within band/2 of "
+                                                    "each layer's mid-plane.")] = None,
+    from_mesh: Annotated[bool, typer.Option(
+        "--from-mesh", help="Slice a PLY/OBJ/OFF's faces: exact sections, simplified.")] = False,
+    separate_bodies: Annotated[bool, typer.Option(
+        "--separate-bodies", help="STL: one closed body per layer, not their union.")] = False,
     axis: Annotated[str, typer.Option(help="Slicing axis: x, y, z or 'ax,ay,az'.")] = "z",
     workers: Annotated[int | None, typer.Option(help="Processes (default: all cores).")
                        ] = None,
@@ -202,13 +206,20 @@ def slice_command(
     if (layer is None) == (not adaptive):
         raise ParameterError("give either --layer THICKNESS or --adaptive")
     direction = axis if axis.lower() in ("x", "y", "z") else _vector(axis)
-    pts = _read(path, fmt, columns)
-    with _progress("fitting layers") as progress:
-        result = wavepoly.slice_cloud(pts, tolerance, axis=direction, layer_thickness=layer,
-                                      adaptive=adaptive, min_layer=min_layer,
-                                      max_layer=max_layer, band=band, workers=workers,
-                                      progress=progress)
-    wavepoly.write_layers(output, result, units=units)
+    if from_mesh:
+        if adaptive:
+            raise ParameterError("--from-mesh slices uniform layers (--layer); adaptive "
+                                 "layers need the cloud")
+        result = wavepoly.slice_mesh(wavepoly.read_mesh(path), tolerance, axis=direction,
+                                     layer_thickness=layer)
+    else:
+        pts = _read(path, fmt, columns)
+        with _progress("fitting layers") as progress:
+            result = wavepoly.slice_cloud(pts, tolerance, axis=direction,
+                                          layer_thickness=layer, adaptive=adaptive,
+                                          min_layer=min_layer, max_layer=max_layer, band=band,
+                                          workers=workers, progress=progress)
+    wavepoly.write_layers(output, result, units=units, separate=separate_bodies)
     typer.echo(wavepoly.slice_summary(result))
     for note in result.notes:
         typer.echo(f"note: {note}")

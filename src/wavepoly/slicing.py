@@ -37,8 +37,10 @@ import numpy as np
 
 from .errors import DataError, ParameterError
 from .fit import fit
+from .geometry import nest_contours, orient_by_depth
 from .parallel import run_jobs
-from .sections import section_points, surface_samples
+from .polylines import close_gaps, fit_polylines
+from .sections import mesh_section, section_points, surface_samples
 from .staircase import layer_errors, slab_errors
 from .types import (
     DEFAULT_RELATIVE_TOLERANCE,
@@ -51,6 +53,7 @@ from .types import (
     within,
 )
 from .validate import check_relative_tolerance, check_tolerance, validate_points
+from .validity import check_contours
 
 AXES = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}
 #: Refuse plans of more layers than this: a thickness that small is a unit mistake.
@@ -61,6 +64,11 @@ LAYER_COUNT_SLACK = 1e-9
 GROWTH = 1.25
 #: Fewer section points than this make no contour (a speck where a cap grazes the plane).
 MIN_SECTION_POINTS = 8
+#: Open ends of a layer's section are bridged across gaps up to this many layer thicknesses
+#: plus `GAP_TOLERANCES` tolerances: the points missing at a sharp vertical edge or where the
+#: surface is nearly in the plane leave gaps of about a layer's thickness.
+GAP_LAYERS = 1.0
+GAP_TOLERANCES = 4.0
 
 
 def plane_basis(axis: str | FloatArray) -> FloatArray:
@@ -135,7 +143,7 @@ def slice_cloud(points3d: FloatArray, tolerance: float, *, axis: str | FloatArra
         step = check_tolerance(layer_thickness, "layer_thickness")
         bottoms, thick = uniform_layers(uvh[0, 2], uvh[-1, 2], step)
         jobs = [LayerJob(_section(surface, b, t, band), tolerance, relative_tolerance,
-                         float(b + t / 2)) for b, t in zip(bottoms, thick)]
+                         float(b + t / 2), _max_gap(t, tolerance)) for b, t in zip(bottoms, thick)]
         planning = time.perf_counter() - t0
         t0 = time.perf_counter()
         fits = run_jobs(fit_layer_job, jobs, workers, progress)
@@ -151,6 +159,32 @@ def slice_cloud(points3d: FloatArray, tolerance: float, *, axis: str | FloatArra
     notes = _notes(layers, tolerance)
     timings = {"planning": planning, "fitting": fitting, "model_error": time.perf_counter() - t0}
     return SliceResult(layers, basis, tolerance, adaptive, len(pts), timings, tuple(notes))
+
+
+def slice_mesh(mesh, tolerance: float, *, layer_thickness: float,
+               axis: str | FloatArray = "z") -> SliceResult:
+    """Slice a triangle mesh (trimesh) from its faces: each layer's contours are the exact
+    section at its mid-plane, simplified to the fewest vertices within ``tolerance``
+    (`wavepoly.polylines`). The model error is the staircase error of the mesh's vertices.
+    """
+    tolerance = check_tolerance(tolerance)
+    step = check_tolerance(layer_thickness, "layer_thickness")
+    basis = plane_basis(axis)
+    t0 = time.perf_counter()
+    uvh = np.asarray(mesh.vertices, float) @ basis.T
+    uvh = uvh[np.argsort(uvh[:, 2], kind="stable")]
+    bottoms, thick = uniform_layers(uvh[0, 2], uvh[-1, 2], step)
+    fits = [fit_polylines(mesh_section(mesh, basis, b + t / 2), tolerance, float(b + t / 2))
+            for b, t in zip(bottoms, thick)]
+    fitting = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    errors = layer_errors(uvh, bottoms, bottoms + thick, [f.contours for f in fits])
+    layers = [Layer(float(b), float(t), (float(b), float(b + t)), res,
+                    int(np.diff(np.searchsorted(uvh[:, 2], [b, b + t]))[0]), err)
+              for b, t, res, err in zip(bottoms, thick, fits, errors)]
+    timings = {"planning": 0.0, "fitting": fitting, "model_error": time.perf_counter() - t0}
+    return SliceResult(layers, basis, tolerance, False, len(uvh), timings,
+                       tuple(_notes(layers, tolerance)))
 
 
 def _section(surface: SurfaceSamples, bottom: float, thickness: float, band: float | None
@@ -223,7 +257,7 @@ def _try_layer(surface: SurfaceSamples, bottom: float, thickness: float, bounds:
     (against the layer below, and with the top face taken as exposed)?"""
     mid = bottom + thickness / 2
     res = fit_layer(_section(surface, bottom, thickness, bounds.band), bounds.tolerance / 2,
-                    bounds.relative_tolerance, mid)
+                    bounds.relative_tolerance, mid, _max_gap(thickness, bounds.tolerance))
     s0, s1 = np.searchsorted(surface.uvh[:, 2], [bottom, bottom + thickness])
     if s1 == s0:
         return res, True
@@ -232,9 +266,14 @@ def _try_layer(surface: SurfaceSamples, bottom: float, thickness: float, bounds:
     return res, within(float(errs.max()), bounds.tolerance)
 
 
+def _max_gap(thickness: float, tolerance: float) -> float:
+    return GAP_LAYERS * thickness + GAP_TOLERANCES * tolerance
+
+
 def fit_layer(points: FloatArray, tolerance: float, relative_tolerance: float | None,
-              z: float) -> FitResult:
-    """The fit of one layer's section points (a pure function: safe in any worker).
+              z: float, max_gap: float = 0.0) -> FitResult:
+    """The fit of one layer's section points (a pure function: safe in any worker), its open
+    pieces bridged across gaps up to ``max_gap`` (`wavepoly.polylines.close_gaps`).
 
     Too few points (the plane misses the object, or grazes a cap) give a layer with no contour
     and a note, not an error.
@@ -247,12 +286,26 @@ def fit_layer(points: FloatArray, tolerance: float, relative_tolerance: float | 
     except DataError as exc:
         return FitResult([], tolerance, 0.0, 0.0, np.arange(len(points)), len(points),
                          notes=(f"no contour: {exc}",), z=z)
-    return replace(res, z=z)
+    return replace(_closed_up(res, max_gap), z=z)
+
+
+def _closed_up(res: FitResult, max_gap: float) -> FitResult:
+    """The fit with its open pieces bridged into closed sections, where that stays valid."""
+    if max_gap <= 0 or all(c.closed for c in res.contours):
+        return res
+    contours, bridges = close_gaps(res.contours, max_gap)
+    validity = check_contours(contours)
+    if not bridges or not validity.valid:
+        return res
+    parents = nest_contours(contours)
+    note = f"{bridges} gap(s) in the section bridged (up to {max_gap:.3g})"
+    return replace(res, contours=orient_by_depth(contours, parents), parents=parents,
+                   reports=[], validity=validity, notes=(*res.notes, note))
 
 
 def fit_layer_job(job: LayerJob) -> FitResult:
     """Fit a layer's section points (``job.section``) on its mid-plane."""
-    return fit_layer(job.section, job.tolerance, job.relative_tolerance, job.z)
+    return fit_layer(job.section, job.tolerance, job.relative_tolerance, job.z, job.max_gap)
 
 
 def _trim_empty_ends(layers: list[Layer], tolerance: float) -> list[Layer]:

@@ -293,13 +293,14 @@ class LayerJob:
     """What one layer's fit needs, and nothing more (it travels to a worker process).
 
     section: (m, 2) plane coordinates of the points on the layer's mid-plane section, fitted
-    on the mid-plane at height ``z``.
+    on the mid-plane at height ``z``; max_gap: the widest gap between open pieces to bridge.
     """
 
     section: FloatArray
     tolerance: float
     relative_tolerance: float | None
     z: float
+    max_gap: float = 0.0  # open pieces are bridged across gaps up to this
 
 
 @dataclass(frozen=True)

@@ -1,7 +1,7 @@
 """Reading scan files, writing polygons and layer models, and the runs' reports."""
 
 from .layers import LAYER_FORMATS, write_layers
-from .readers import FORMATS, detect_format, read_points
+from .readers import FORMATS, detect_format, read_mesh, read_points
 from .report import (
     fit_report,
     fit_summary,
@@ -13,5 +13,5 @@ from .report import (
 from .writers import POLYGON_FORMATS, write_points, write_polygons
 
 __all__ = ["FORMATS", "LAYER_FORMATS", "POLYGON_FORMATS", "detect_format", "fit_report",
-           "fit_summary", "ordering_summary", "read_points", "slice_report", "slice_summary",
-           "write_layers", "write_points", "write_polygons", "write_report"]
+           "fit_summary", "ordering_summary", "read_mesh", "read_points", "slice_report",
+           "slice_summary", "write_layers", "write_points", "write_polygons", "write_report"]

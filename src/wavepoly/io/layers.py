@@ -20,10 +20,11 @@ LAYER_FORMATS = ("cli", "svg", "geojson", "json", "stl")
 
 
 def write_layers(path: str | Path, result: SliceResult, *, fmt: str | None = None,
-                 units: float = 1.0) -> None:
+                 units: float = 1.0, separate: bool = False) -> None:
     """Write a layer model; the format comes from the extension (`LAYER_FORMATS`).
 
-    ``units`` is the length of one coordinate unit in millimetres (the CLI header's $$UNITS).
+    ``units`` is the length of one coordinate unit in millimetres (the CLI header's $$UNITS);
+    ``separate`` writes an STL of one closed body per layer instead of their union.
     """
     fmt = (fmt or Path(path).suffix.lstrip(".")).lower()
     if fmt in LAYER_FORMATS:
@@ -39,7 +40,7 @@ def write_layers(path: str | Path, result: SliceResult, *, fmt: str | None = Non
                   for k, la in enumerate(result.layers)]
         write_geojson(path, [la.fit for la in result.layers], extras)
     elif fmt == "stl":
-        mesh = layer_mesh(result)
+        mesh = layer_mesh(result, separate=separate)
         with atomic_path(path) as tmp:
             mesh.export(tmp, file_type="stl")
     else:
@@ -47,17 +48,26 @@ def write_layers(path: str | Path, result: SliceResult, *, fmt: str | None = Non
                         f"{', '.join(LAYER_FORMATS)})")
 
 
-def cli_document(result: SliceResult, *, units: float = 1.0) -> str:
-    """The layers as an ASCII Common Layer Interface file.
+def build_plate_offset(result: SliceResult) -> float:
+    """The shift along the axis that puts the part's lowest layer on the build plate (0)."""
+    return -min((la.bottom for la in result.layers), default=0.0)
 
-    Each layer is written at its top height; closed contours repeat their first point, with
-    direction 1 for outer (counter-clockwise) and 0 for holes (clockwise); open ones have 2.
+
+def cli_document(result: SliceResult, *, units: float = 1.0) -> str:
+    """The layers as an ASCII Common Layer Interface file, standing on the build plate.
+
+    Heights start at 0: every layer is written at its top height plus `build_plate_offset`,
+    which the header states in a comment (and the slice report holds). Closed contours repeat
+    their first point, with direction 1 for outer (counter-clockwise) and 0 for holes
+    (clockwise); open ones have 2.
     """
+    offset = build_plate_offset(result)
     lines = ["$$HEADERSTART", "$$ASCII", f"$$UNITS/{units:.6g}", "$$VERSION/200",
-             "$$LABEL/1,wavepoly", f"$$LAYERS/{len(result.layers)}", "$$HEADEREND",
-             "$$GEOMETRYSTART"]
+             "$$LABEL/1,wavepoly", f"$$LAYERS/{len(result.layers)}",
+             f"//heights shifted by {offset:+.6f} so that the part stands on the build plate//",
+             "$$HEADEREND", "$$GEOMETRYSTART"]
     for layer in result.layers:
-        lines.append(f"$$LAYER/{layer.top:.6f}")
+        lines.append(f"$$LAYER/{layer.top + offset:.6f}")
         depth = nesting_depth(layer.fit.parents or [-1] * len(layer.fit.contours))
         for c, d in zip(layer.fit.contours, depth):
             v = np.vstack([c.vertices, c.vertices[:1]]) if c.closed else c.vertices
@@ -68,26 +78,49 @@ def cli_document(result: SliceResult, *, units: float = 1.0) -> str:
     return "\n".join(lines) + "\n"
 
 
-def layer_mesh(result: SliceResult):
-    """The stair-step model: each layer's closed contours extruded by its thickness (trimesh).
+def layer_mesh(result: SliceResult, *, separate: bool = False):
+    """The stair-step model as a printable triangle mesh (trimesh).
 
-    Each layer is a watertight solid of its own (manifold3d's extrusion, holes by the
-    even-odd rule); open contours bound no area and are left out.
+    Each layer's closed contours (holes by the even-odd rule) are extruded from its bottom to
+    its top with manifold3d; the union of all layer prisms is one watertight,
+    winding-consistent solid per connected part of the object (``separate=False``), or each
+    layer stays a closed body of its own, sharing no faces with the next (``separate=True``:
+    every prism is shrunk by a hair along the axis so that neighbours do not touch). Open
+    contours bound no area and are left out.
     """
     import trimesh
-    from manifold3d import CrossSection, FillRule
+    from manifold3d import CrossSection, FillRule, Manifold, OpType
 
-    parts = []
+    prisms = []
     for layer in result.layers:
         rings = [c.vertices for c in layer.fit.contours if c.closed and len(c.vertices) >= 3]
         if not rings:
             continue
-        solid = CrossSection([np.asarray(r, float) for r in rings], FillRule.EvenOdd)
-        if solid.is_empty():
+        section = CrossSection([np.asarray(r, float) for r in rings], FillRule.EvenOdd)
+        if section.is_empty():
             continue
-        mesh = solid.extrude(layer.thickness).translate((0.0, 0.0, layer.bottom)).to_mesh()
-        verts = np.asarray(mesh.vert_properties)[:, :3] @ result.basis  # plane -> world
-        parts.append(trimesh.Trimesh(verts, np.asarray(mesh.tri_verts), process=True))
-    if not parts:
+        gap = SEPARATION * layer.thickness if separate else -OVERLAP * layer.thickness
+        prism = Manifold.extrude(section, layer.thickness - 2 * gap)
+        prisms.append(prism.translate((0.0, 0.0, layer.bottom + gap)))
+    if not prisms:
         raise DataError("the layer model has no closed contour to extrude")
-    return trimesh.util.concatenate(parts)
+    if separate:
+        meshes = [_to_trimesh(p, result) for p in prisms]
+        return trimesh.util.concatenate(meshes)
+    return _to_trimesh(Manifold.batch_boolean(prisms, OpType.Add), result)
+
+
+#: For the union, each prism reaches this fraction of its thickness into its neighbours, so
+#: that a top and the next bottom that differ by round-off still fuse into one solid.
+OVERLAP = 1e-4
+#: With separate bodies, each prism loses this fraction of its thickness at either face, so
+#: that no two bodies share a face (a slicer would merge or reject touching shells).
+SEPARATION = 1e-4
+
+
+def _to_trimesh(solid, result: SliceResult):
+    import trimesh
+
+    mesh = solid.to_mesh()
+    verts = np.asarray(mesh.vert_properties)[:, :3] @ result.basis  # plane -> world
+    return trimesh.Trimesh(verts, np.asarray(mesh.tri_verts), process=True)

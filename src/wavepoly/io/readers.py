@@ -319,3 +319,21 @@ _READERS: dict[str, Callable[[Path, str, tuple[int, ...] | None], np.ndarray]] =
     "npy": _read_npy, "ply": _read_ply, "las": _read_las, "laz": _read_las, "pcd": _read_pcd,
     "obj": _read_obj, "off": _read_off, "carmen": _read_carmen, "conf": _read_conf,
 }
+
+
+def read_mesh(path: str | Path):
+    """A triangle mesh (PLY, OBJ, OFF, STL) as a trimesh.Trimesh, faces required."""
+    import trimesh
+
+    path = Path(path)
+    if not path.is_file():
+        raise DataError(f"{path}: no such file")
+    try:
+        mesh = trimesh.load(path, process=False, force="mesh")
+    except Exception as exc:  # trimesh raises many types on corrupt files
+        raise DataError(f"{path}: cannot read a mesh: {_short(exc)}") from exc
+    if not hasattr(mesh, "faces") or not len(mesh.faces):
+        raise DataError(f"{path}: has no faces; slice its points without --from-mesh")
+    if not np.isfinite(np.asarray(mesh.vertices)).all():
+        raise DataError(f"{path}: vertices with NaN or infinite coordinates")
+    return mesh

@@ -68,11 +68,14 @@ def slice_report(result: SliceResult, source: str) -> dict:
     return {
         "input": source, "points": result.n_points, "tolerance": result.tolerance,
         "adaptive": result.adaptive, "layers": len(result.layers),
-        "model_error": result.model_error, "vertices": result.n_vertices,
+        "model_error": result.model_error, "model_error_kind": "3D staircase",
+        "build_plate_offset": -min((la.bottom for la in result.layers), default=0.0),
+        "vertices": result.n_vertices,
         "per_layer": [{"bottom": la.bottom, "thickness": la.thickness, "z": la.z,
                        "band_points": la.fit.n_points, "slab_points": la.slab_points,
                        "contours": len(la.fit.contours),
                        "closed": sum(c.closed for c in la.fit.contours),
+                       "valid": la.fit.validity is None or la.fit.validity.valid,
                        "vertices": la.fit.n_vertices, "fit_max_error": la.fit.max_error,
                        "model_error": la.model_error if np.isfinite(la.model_error) else None,
                        "outliers": len(la.fit.outliers), "notes": list(la.fit.notes)}
