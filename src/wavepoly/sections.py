@@ -50,6 +50,11 @@ REACH_MARGIN = 0.5
 MIN_STEEPNESS = np.sin(np.radians(30.0))
 #: Section end points closer than this (relative to the coordinates) are the same point.
 SNAP = 1e-9
+#: Neighbourhoods whose smallest principal variance exceeds this fraction of the middle one
+#: are not planar (they straddle an edge of the object, where the normal is an average of the
+#: faces'): their points would slide the wrong way, so they give no section points. Noise alone
+#: gives about (2 sigma / radius)^2, 0.1 at 0.1 % noise.
+MAX_FLATNESS = 0.25
 #: Largest slide along the surface, in neighbourhood radii: the tangent plane is a fair model
 #: of the surface over about its neighbourhood, not much farther.
 MAX_SLIDE = 2.0
@@ -67,19 +72,20 @@ def surface_samples(uvh: FloatArray, k: int = SURFACE_NEIGHBOURS) -> SurfaceSamp
     k = max(3, min(k, n))
     tree = cKDTree(uvh)
     normals = np.empty((n, 3))
-    low, high, radius = np.empty(n), np.empty(n), np.empty(n)
+    low, high, radius, flatness = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
     for start in range(0, n, CHUNK):
         stop = min(n, start + CHUNK)
         dist, idx = tree.query(uvh[start:stop], k=k)
         nbr = uvh[idx]
         centred = nbr - nbr.mean(axis=1, keepdims=True)
         cov = np.einsum("nki,nkj->nij", centred, centred)
-        _, vectors = np.linalg.eigh(cov)
+        values, vectors = np.linalg.eigh(cov)
         normals[start:stop] = vectors[:, :, 0]  # the smallest principal axis
+        flatness[start:stop] = values[:, 0] / np.maximum(values[:, 1], 1e-300)
         low[start:stop] = nbr[:, :, 2].min(axis=1)
         high[start:stop] = nbr[:, :, 2].max(axis=1)
         radius[start:stop] = dist[:, -1]
-    return SurfaceSamples(uvh, normals, low, high, radius)
+    return SurfaceSamples(uvh, normals, low, high, radius, flatness)
 
 
 def section_points(surface: SurfaceSamples, rows: slice, z: float) -> FloatArray:
@@ -97,7 +103,8 @@ def section_points(surface: SurfaceSamples, rows: slice, z: float) -> FloatArray
     scale = np.divide(dh, along, out=np.zeros_like(dh), where=steep)
     shift = -scale[:, None] * n[:, 2:3] * n[:, :2]
     slide = np.hypot(shift[:, 0], shift[:, 1])
-    keep = reaches & steep & (slide <= MAX_SLIDE * surface.radius[rows])
+    planar = surface.flatness[rows] <= MAX_FLATNESS
+    keep = reaches & steep & planar & (slide <= MAX_SLIDE * surface.radius[rows])
     return uvh[keep, :2] + shift[keep]
 
 

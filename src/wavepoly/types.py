@@ -278,7 +278,8 @@ class SurfaceSamples:
 
     uvh: (N, 3) plane coordinates and height, sorted by height; normals: (N, 3) unit normals
     of the local tangent planes; low, high: height range of each point's neighbourhood;
-    radius: the neighbourhood's radius.
+    radius: the neighbourhood's radius; flatness: its smallest principal variance over the
+    middle one (0 on a plane, larger across an edge).
     """
 
     uvh: FloatArray
@@ -286,6 +287,7 @@ class SurfaceSamples:
     low: FloatArray
     high: FloatArray
     radius: FloatArray
+    flatness: FloatArray
 
 
 @dataclass(frozen=True)
