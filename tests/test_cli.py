@@ -103,3 +103,24 @@ def test_debug_shows_traceback(tmp_path):
     src.write_text("1 2\n")
     out = run("--debug", "info", src)
     assert out.returncode != 0 and "Traceback" in out.stderr
+
+
+def test_outputs_are_checked_before_any_work(glyph_file, tmp_path):
+    """The input is never overwritten, and a bad output path writes nothing at all."""
+    import shutil
+
+    src = tmp_path / "same.xy"
+    shutil.copy(glyph_file, src)
+    before = src.read_bytes()
+    (tmp_path / "sub").mkdir()
+    for extra in (["-o", str(src)], ["-o", str(tmp_path / "sub" / ".." / "same.xy")],
+                  ["-o", str(tmp_path / "o.geojson"), "--report", str(src)],
+                  ["-o", str(tmp_path / "o.geojson"), "--report",
+                   str(tmp_path / "no" / "such" / "r.json")],
+                  ["-o", str(tmp_path / "o.geojson"), "--plot", str(tmp_path / "out.xyz")],
+                  ["-o", str(tmp_path / "o.geojson"), "--report", str(tmp_path / "o.geojson")]):
+        out = run("fit", src, "-t", "0.08", *extra)
+        assert out.returncode == 2, (extra, out.stderr)
+        assert out.stderr.count("\n") == 1 and "error:" in out.stderr
+    assert src.read_bytes() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["same.xy", "sub"]

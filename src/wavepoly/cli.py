@@ -7,6 +7,7 @@ traceback.
 
 from __future__ import annotations
 
+import os
 import sys
 from pathlib import Path
 from typing import Annotated
@@ -82,6 +83,7 @@ def order(
     seed: int = 0, fmt: FormatOpt = None, columns: ColumnsOpt = None,
 ) -> None:
     """Order and thin unorganized points into contours (paper §2)."""
+    _check_outputs([path], [(plot, FIGURE_FORMATS)])
     pts = wavepoly.as_planar(_read(path, fmt, columns), str(path))
     ordering = wavepoly.order_points(pts, radius, seed=seed)
     typer.echo(wavepoly.ordering_summary(ordering, len(pts)))
@@ -113,9 +115,8 @@ def fit_command(
     seed: int = 0, fmt: FormatOpt = None, columns: ColumnsOpt = None,
 ) -> None:
     """Fit concise polygons within the tolerance (ordering, wavelets, reconstruction)."""
-    if output.suffix.lstrip(".").lower() not in wavepoly.POLYGON_FORMATS:
-        raise ParameterError(f"{output}: output must end in one of "
-                             f"{', '.join('.' + f for f in wavepoly.POLYGON_FORMATS)}")
+    _check_outputs([path], [(output, wavepoly.POLYGON_FORMATS), (plot, FIGURE_FORMATS),
+                            (report, REPORT_FORMATS)])
     rel = _relative_tolerance(relative_tolerance)
     pts = wavepoly.as_planar(_read(path, fmt, columns), str(path))
     with _progress("fitting contours") as progress:
@@ -133,6 +134,37 @@ def fit_command(
 
         save_figure(plot_fit(pts, result), plot)
         typer.echo(f"wrote {plot}")
+
+
+def _check_outputs(inputs: list[Path], outputs: list[tuple[Path | None, tuple[str, ...]]]
+                   ) -> None:
+    """Before any work: every output has a known extension, a folder that exists, is not an
+    input (nor another output), and is not a read-only file; nothing is written otherwise."""
+    sources = {p.resolve() for p in inputs if p.exists()}
+    seen: set[Path] = set()
+    for out, formats in outputs:
+        if out is None:
+            continue
+        if out.suffix.lstrip(".").lower() not in formats:
+            raise ParameterError(f"{out}: output must end in one of "
+                                 f"{', '.join('.' + f for f in formats)}")
+        folder = out.parent if str(out.parent) else Path(".")
+        if not folder.is_dir():
+            raise ParameterError(f"{out}: folder {folder} does not exist")
+        target = out.resolve()
+        if target in sources:
+            raise ParameterError(f"{out}: is the input file; refusing to overwrite it")
+        if target in seen:
+            raise ParameterError(f"{out}: given as two outputs")
+        if out.is_dir():
+            raise ParameterError(f"{out}: is a folder")
+        if out.exists() and not os.access(out, os.W_OK):
+            raise ParameterError(f"{out}: exists and is read-only")
+        seen.add(target)
+
+
+FIGURE_FORMATS = ("png", "svg", "pdf")
+REPORT_FORMATS = ("json",)
 
 
 def _relative_tolerance(text: str) -> float | None:
@@ -200,9 +232,8 @@ def slice_command(
     fmt: FormatOpt = None, columns: ColumnsOpt = None,
 ) -> None:
     """Slice a 3D cloud into layers, fit each layer's contours, write the layer model."""
-    if output.suffix.lstrip(".").lower() not in wavepoly.LAYER_FORMATS:
-        raise ParameterError(f"{output}: output must end in one of "
-                             f"{', '.join('.' + f for f in wavepoly.LAYER_FORMATS)}")
+    _check_outputs([path], [(output, wavepoly.LAYER_FORMATS), (plot, FIGURE_FORMATS),
+                            (report, REPORT_FORMATS)])
     if (layer is None) == (not adaptive):
         raise ParameterError("give either --layer THICKNESS or --adaptive")
     direction = axis if axis.lower() in ("x", "y", "z") else _vector(axis)
