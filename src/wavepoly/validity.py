@@ -220,19 +220,20 @@ def obstacle_tree(contours: list[Contour]) -> shapely.STRtree | None:
     return shapely.STRtree(shapely.linestrings(np.concatenate(segs)))
 
 
-def split_at_crossings_of(lines: list[FloatArray], closed: list[bool]
-                          ) -> dict[int, list[FloatArray]]:
+def split_at_crossings_of(lines: list[FloatArray], closed: list[bool], *,
+                          between_only: bool = False) -> dict[int, list[FloatArray]]:
     """Polylines cut where they properly cross one another (or themselves): for each polyline
     that crosses, its open pieces, each ending on a crossing point (or on its own ends).
 
     The crossing point becomes a vertex of every polyline through it, so the pieces meet only
-    at their end points (a junction) and draw exactly the same lines.
+    at their end points (a junction) and draw exactly the same lines. ``between_only`` leaves
+    a polyline's meetings with itself alone.
     """
-    cuts = _crossing_cuts(lines, closed)
+    cuts = _crossing_cuts(lines, closed, between_only)
     return {k: _pieces(lines[k], closed[k], c) for k, c in cuts.items()}
 
 
-def _crossing_cuts(chains: list[FloatArray], closed: list[bool]
+def _crossing_cuts(chains: list[FloatArray], closed: list[bool], between_only: bool = False
                    ) -> dict[int, list[tuple[int, float, FloatArray]]]:
     """For each chain that meets another (or itself) other than at an open end: (edge,
     position along it, meeting point) of each meeting; a position of 0 or 1 is a vertex."""
@@ -255,7 +256,7 @@ def _crossing_cuts(chains: list[FloatArray], closed: list[bool]
     same = owner[i] == owner[j]
     gap = np.abs(edge[i] - edge[j])
     adjacent = same & ((gap <= 1) | (gap == np.asarray(m_of)[owner[i]] - 1))
-    keep = (i < j) & ~adjacent
+    keep = (i < j) & ~adjacent & ~(same & between_only)
     ends = np.concatenate([chains[k][[0, -1]] for k in range(len(chains)) if not closed[k]]
                           ) if not all(closed) else np.empty((0, 2))
     cuts: dict[int, list[tuple[int, float, FloatArray]]] = {}

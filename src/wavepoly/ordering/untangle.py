@@ -80,7 +80,10 @@ def split_at_crossings(contours: list[OrderedContour], points: FloatArray
     """
     if not contours:
         return contours
-    pieces = split_at_crossings_of([c.points for c in contours], [c.closed for c in contours])
+    # a chain meeting itself after untangling is left to the fit (its polygon skips the spot);
+    # cutting it there would open a closed outline
+    pieces = split_at_crossings_of([c.points for c in contours], [c.closed for c in contours],
+                                   between_only=True)
     out = []
     for k, contour in enumerate(contours):
         if k not in pieces:
