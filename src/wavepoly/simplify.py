@@ -84,7 +84,7 @@ def own_edge_distance(vertices: FloatArray, vparams: FloatArray, points: FloatAr
 
 
 def select_vertices(vertices: FloatArray, vparams: FloatArray, points: FloatArray,
-                    params: FloatArray, closed: bool, tolerance: float,
+                    params: FloatArray, closed: bool, tolerance: float, *,
                     backbone: IntArray | None = None,
                     obstacles: shapely.STRtree | None = None, simple: bool = True
                     ) -> tuple[FloatArray, FloatArray]:
