@@ -182,3 +182,11 @@ def test_keyboard_silhouette(shared_data):
     result = wavepoly.fit(pts, eps)
     check_within_tolerance(pts, result)
     assert any(c.closed for c in result.contours)
+
+
+def test_a_tolerance_larger_than_the_points_gives_one_segment():
+    pts = sample_rings(glyph_outlines("O").rings, spacing=0.05, noise=0.0, seed=0)
+    result = wavepoly.fit(pts, 1e9)
+    assert len(result.contours) == 1 and result.contours[0].n_vertices == 2
+    assert len(result.outliers) == 0 and result.validity.valid
+    assert any("one segment" in note for note in result.notes)

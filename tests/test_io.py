@@ -213,3 +213,82 @@ def test_atomic_write_leaves_nothing_on_failure(tmp_path):
         tmp.write_text("half")
         raise RuntimeError("interrupted")
     assert list(tmp_path.iterdir()) == []
+
+
+# -- reliability: hostile files, built here -----------------------------------------------------
+
+
+def test_a_pipe_is_refused_not_waited_on(tmp_path):
+    import os
+
+    fifo = tmp_path / "points.xyz"
+    os.mkfifo(fifo)
+    with pytest.raises(DataError, match="not a regular file"):
+        read_points(fifo)
+
+
+def test_las_headers_that_lie_are_refused_at_once(tmp_path):
+    import os
+
+    import laspy
+
+    (tmp_path / "noise.las").write_bytes(b"LASF" + os.urandom(500))
+    with pytest.raises(DataError, match="noise.las"):
+        read_points(tmp_path / "noise.las")
+    header = laspy.LasHeader(point_format=3, version="1.2")
+    las = laspy.LasData(header)
+    las.x, las.y, las.z = np.arange(10.0), np.arange(10.0) ** 2, np.zeros(10)
+    las.write(tmp_path / "ok.las")
+    assert read_points(tmp_path / "ok.las").shape == (10, 3)
+    raw = bytearray((tmp_path / "ok.las").read_bytes())
+    raw[100:104] = (2**32 - 1).to_bytes(4, "little")  # the VLR count
+    (tmp_path / "vlr.las").write_bytes(bytes(raw))
+    with pytest.raises(DataError, match="4294967295 variable-length records"):
+        read_points(tmp_path / "vlr.las")
+
+
+@pytest.mark.parametrize("count", ["1000000000", "9223372036854775808", "-60"])
+def test_gtn_count_headers_that_lie_are_refused(tmp_path, count):
+    rows = "\n".join(f"{k} {k * 0.1:.3f} {np.sin(k):.3f}" for k in range(60))
+    path = tmp_path / "lie.gtn"
+    path.write_text(f"{count} 2 0 0\n{rows}\n")
+    with pytest.raises(DataError, match="count header says .* but 60 rows follow"):
+        read_points(path)
+
+
+def test_endless_lines_are_refused_without_holding_them(tmp_path):
+    path = tmp_path / "one.xyz"
+    path.write_text("1 " * 200_000)
+    with pytest.raises(DataError, match="longer than"):
+        read_points(path)
+
+
+def test_conf_scans_must_lie_in_its_folder_and_content_is_not_quoted(tmp_path):
+    outside = tmp_path / "outside"
+    outside.mkdir()
+    (outside / "secret.xyz").write_text("SECRET-TOKEN-beta second line of it\n1 2 3\n")
+    scans = tmp_path / "scans"
+    scans.mkdir()
+    conf = scans / "bun.conf"
+    conf.write_text("bmesh ../outside/secret.xyz 0 0 0 0 0 0 1\n")
+    with pytest.raises(DataError, match="not in the .conf's folder") as err:
+        read_points(conf)
+    assert "SECRET" not in str(err.value)
+    conf.write_text(f"bmesh {outside / 'secret.xyz'} 0 0 0 0 0 0 1\n")
+    with pytest.raises(DataError, match="not in the .conf's folder"):
+        read_points(conf)
+    conf.write_text("bmesh bun.conf 0 0 0 0 0 0 1\n")
+    with pytest.raises(DataError, match="may not name another .conf"):
+        read_points(conf)
+    (scans / "bad.xyz").write_text("SECRET-TOKEN-beta second line of it, and much more\n")
+    conf.write_text("bmesh bad.xyz 0 0 0 0 0 0 1\n")
+    with pytest.raises(DataError) as err:
+        read_points(conf)
+    assert "much more" not in str(err.value)
+
+
+def test_coordinates_whose_distances_overflow_are_refused(tmp_path):
+    path = tmp_path / "huge.xyz"
+    np.savetxt(path, np.array([[0.0, 0.0, 0.0], [1e300, 1.0, 0.0], [2.0, 1e300, 0.0]]))
+    with pytest.raises(DataError, match="overflow"):
+        read_points(path)

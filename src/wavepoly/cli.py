@@ -118,7 +118,8 @@ def fit_command(
     _check_outputs([path], [(output, wavepoly.POLYGON_FORMATS), (plot, FIGURE_FORMATS),
                             (report, REPORT_FORMATS)])
     rel = _relative_tolerance(relative_tolerance)
-    pts = wavepoly.as_planar(_read(path, fmt, columns), str(path))
+    pts = wavepoly.validate_points(wavepoly.as_planar(_read(path, fmt, columns), str(path)),
+                                   source=str(path), min_points=3)
     with _progress("fitting contours") as progress:
         result = wavepoly.fit(pts, tolerance, relative_tolerance=rel, radius=radius, seed=seed,
                               progress=progress)
@@ -244,7 +245,8 @@ def slice_command(
         result = wavepoly.slice_mesh(wavepoly.read_mesh(path), tolerance, axis=direction,
                                      layer_thickness=layer)
     else:
-        pts = _read(path, fmt, columns)
+        pts = wavepoly.validate_points(_read(path, fmt, columns), source=str(path),
+                                       min_points=3)
         with _progress("fitting layers") as progress:
             result = wavepoly.slice_cloud(pts, tolerance, axis=direction,
                                           layer_thickness=layer, adaptive=adaptive,

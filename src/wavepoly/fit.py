@@ -17,7 +17,7 @@ import numpy as np
 import shapely
 
 from .errors import ParameterError
-from .geometry import nest_contours, orient_by_depth
+from .geometry import nest_contours, orient_by_depth, polyline_distance
 from .levels import decompose_contour
 from .ordering import order_points
 from .reconstruction import reconstruct_contour
@@ -74,6 +74,9 @@ def fit(points: FloatArray, tolerance: float, *,
     tolerance = check_tolerance(tolerance)
     relative_tolerance = check_relative_tolerance(relative_tolerance)
     radius = tolerance if radius is None else check_tolerance(radius, "radius")
+    whole = _one_segment(pts, tolerance)
+    if whole is not None:
+        return whole
     timings = dict.fromkeys(STAGES, 0.0)
     t0 = time.perf_counter()
     ordering = order_points(pts, radius, seed=seed)
@@ -116,6 +119,26 @@ def fit(points: FloatArray, tolerance: float, *,
     return FitResult(contours, tolerance, float(errors.max()), float(mean), ordering.outliers,
                      len(pts), parents, reports, timings, tuple(notes), validity=validity,
                      suggested_tolerance=suggested)
+
+
+def _one_segment(points: FloatArray, tolerance: float) -> FitResult | None:
+    """When the tolerance is as large as the points' extent, the smallest valid result: one
+    segment along their principal axis, if it keeps every point within the tolerance."""
+    centre = points.mean(axis=0)
+    if np.linalg.norm(points - centre, axis=1).max() > tolerance:
+        return None
+    axis = np.linalg.svd(points - centre, full_matrices=False)[2][0]
+    t = (points - centre) @ axis
+    ends = centre + np.outer([t.min(), t.max()], axis)
+    dist = polyline_distance(points, ends, False)
+    if not within(float(dist.max()), tolerance):
+        return None
+    contour = Contour(ends, False, float(dist.max()), float(dist.mean()))
+    note = (f"the tolerance {tolerance:.4g} is as large as the points' extent: one segment "
+            "keeps every point within it")
+    return FitResult([contour], tolerance, contour.max_error, contour.mean_error,
+                     np.empty(0, dtype=np.intp), len(points), [-1], notes=(note,),
+                     validity=check_contours([contour]))
 
 
 def _split_crossings(contours: list[Contour], reports: list[ContourReport]

@@ -11,6 +11,9 @@ import numpy as np
 from .errors import DataError, ParameterError
 from .types import FloatArray
 
+#: Largest coordinate magnitude accepted: distances are computed from squared differences,
+#: which overflow float64 beyond about 1e154; no scan has coordinates near this.
+MAX_COORDINATE = 1e150
 #: A coordinate column whose extent is below this fraction of the largest extent is constant
 #: (a slice written as ``x y 0``): round-off in a file's digits, not a third dimension.
 FLAT_EXTENT = 1e-12
@@ -58,6 +61,10 @@ def validate_points(points: object, *, source: str = "points", min_points: int =
                         f"(first at row {first})")
     if len(arr) < min_points:
         raise DataError(f"{source}: only {len(arr)} point(s); at least {min_points} are needed")
+    big = np.abs(arr).max()
+    if big > MAX_COORDINATE:
+        raise DataError(f"{source}: coordinates as large as {big:.3g}; distances between "
+                        f"them would overflow (at most {MAX_COORDINATE:g} is accepted)")
     if np.ptp(arr, axis=0).max() == 0.0:
         raise DataError(f"{source}: all {len(arr)} points are identical")
     return np.ascontiguousarray(arr)

@@ -65,6 +65,9 @@ def read_points(
         raise DataError(f"{path}: no such file")
     if path.is_dir():
         raise DataError(f"{path}: is a directory, not a point file")
+    if not path.is_file():
+        raise DataError(f"{path}: is not a regular file (a pipe or a device); "
+                        "save the points to a file first")
     fmt = (fmt or detect_format(path)).lower()
     if fmt not in FORMATS:
         raise DataError(f"{path}: unknown format {fmt!r} (known: {', '.join(FORMATS)})")
@@ -107,7 +110,7 @@ def _read_text(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndar
     rows: list[list[str]] = []
     header_seen = False
     with _open_text(path) as fh:
-        for lineno, raw in enumerate(fh, 1):
+        for lineno, raw in enumerate(_bounded_lines(fh, path), 1):
             line = raw.split("#", 1)[0].strip()
             if not line:
                 continue
@@ -120,17 +123,52 @@ def _read_text(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndar
                 if not rows and not header_seen:
                     header_seen = True  # one header line (e.g. 'x,y,z') is allowed
                     continue
-                raise DataError(f"{path}: line {lineno} is not numeric: {line[:60]!r}")
+                raise DataError(f"{path}: line {lineno} is not numeric: {_snippet(line)}")
             rows.append(tokens)
     if not rows:
         raise DataError(f"{path}: contains no numeric rows")
     if fmt == "gtn" or _looks_like_gtn(rows):
+        _check_count_header(rows, path)
         rows = [r[1:] for r in rows[1:]]  # 'count dim 0 0' header, then 'index x y' rows
         if not rows:
             raise DataError(f"{path}: contains no points after its count header")
     width = min(len(r) for r in rows)
     table = np.array([r[:width] for r in rows], dtype=np.float64)
     return _select_columns(table, fmt, columns, path)
+
+
+#: Longest text line read (bytes): a point row is a few dozen; a longer "line" is not a table
+#: (a binary file, or a file of one endless line) and would otherwise be held whole.
+MAX_LINE = 65536
+
+
+def _bounded_lines(fh, path: Path):
+    """The lines of a text file, refusing any longer than `MAX_LINE`."""
+    while True:
+        line = fh.readline(MAX_LINE + 1)
+        if not line:
+            return
+        if len(line) > MAX_LINE and not line.endswith("\n"):
+            raise DataError(f"{path}: a line is longer than {MAX_LINE} characters; "
+                            "not a table of points")
+        yield line
+
+
+def _snippet(text: str, size: int = 24) -> str:
+    """A short, escaped quote of offending input, never more of a file than that."""
+    short = text if len(text) <= size else text[:size] + "..."
+    return repr(short)
+
+
+def _check_count_header(rows: list[list[str]], path: Path) -> None:
+    """A .gtn's first row says how many points follow: it must say so truthfully."""
+    try:
+        count = int(float(rows[0][0]))
+    except (ValueError, OverflowError, IndexError):
+        raise DataError(f"{path}: the count header is not a number") from None
+    if count != len(rows) - 1:
+        raise DataError(f"{path}: the count header says {rows[0][0]} points but "
+                        f"{len(rows) - 1} rows follow")
 
 
 def _looks_like_gtn(rows: list[list[str]]) -> bool:
@@ -177,9 +215,35 @@ def _read_ply(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndarr
     return np.column_stack([np.asarray(vertex[n], dtype=np.float64) for n in names])
 
 
+#: Sizes of the LAS public header's fields that locate the rest, and of a VLR's header.
+_LAS_MIN_HEADER = 227
+_LAS_VLR_HEADER = 54
+
+
+def _check_las_header(path: Path) -> None:
+    """Refuse a LAS/LAZ header whose sizes and counts the file cannot hold (laspy would loop
+    over a claimed VLR count of 2^32 - 1)."""
+    import struct
+
+    size = path.stat().st_size
+    with open(path, "rb") as fh:
+        head = fh.read(_LAS_MIN_HEADER)
+    if len(head) < _LAS_MIN_HEADER or head[:4] != b"LASF":
+        raise DataError(f"{path}: not a LAS file (no 'LASF' header of {_LAS_MIN_HEADER} bytes)")
+    header_size, = struct.unpack_from("<H", head, 94)
+    offset, n_vlrs = struct.unpack_from("<II", head, 96)
+    if not _LAS_MIN_HEADER <= header_size <= offset <= size:
+        raise DataError(f"{path}: the header's sizes (header {header_size}, point data at "
+                        f"{offset}) do not fit the file's {size} bytes")
+    if n_vlrs * _LAS_VLR_HEADER > offset - header_size:
+        raise DataError(f"{path}: the header claims {n_vlrs} variable-length records, more "
+                        f"than the {offset - header_size} bytes before the points can hold")
+
+
 def _read_las(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndarray:
     import laspy
 
+    _check_las_header(path)
     las = laspy.read(str(path))
     return np.column_stack([np.asarray(las.x), np.asarray(las.y), np.asarray(las.z)])
 
@@ -263,7 +327,7 @@ def _read_carmen(path: Path, fmt: str, columns: tuple[int, ...] | None,
     """
     ranges, poses = [], []
     with _open_text(path) as fh:
-        for line in fh:
+        for line in _bounded_lines(fh, path):
             if not line.startswith("FLASER"):
                 continue
             tokens = line.split()
@@ -293,12 +357,19 @@ def _read_conf(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndar
 
     out, missing = [], []
     with _open_text(path) as fh:
-        lines = fh.read().splitlines()
+        lines = list(_bounded_lines(fh, path))
+    folder = path.parent.resolve()
     for line in lines:
         tokens = line.split()
         if len(tokens) != 9 or tokens[0] != "bmesh":
             continue
-        scan = path.parent / tokens[1]
+        scan = (path.parent / tokens[1]).resolve()
+        if folder not in scan.parents:
+            raise DataError(f"{path}: scan {_snippet(tokens[1])} is not in the .conf's folder "
+                            "(scans must lie in it or below it)")
+        if scan.suffix.lower() == ".conf":
+            raise DataError(f"{path}: a .conf may not name another .conf "
+                            f"({_snippet(tokens[1])})")
         if not scan.exists():
             missing.append(tokens[1])
             continue
