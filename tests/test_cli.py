@@ -124,3 +124,51 @@ def test_outputs_are_checked_before_any_work(glyph_file, tmp_path):
         assert out.stderr.count("\n") == 1 and "error:" in out.stderr
     assert src.read_bytes() == before
     assert sorted(p.name for p in tmp_path.iterdir()) == ["same.xy", "sub"]
+
+
+def _processes_with(marker: str) -> list[int]:
+    """Live processes whose command line holds ``marker`` (the run's unique folder)."""
+    import os
+
+    pids = []
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                with open(f"/proc/{entry}/cmdline", "rb") as fh:
+                    if marker.encode() in fh.read():
+                        pids.append(int(entry))
+            except OSError:
+                continue
+    return pids
+
+
+@pytest.mark.parametrize("sig, code", [("SIGTERM", 143), ("SIGINT", 130)])
+def test_a_signal_stops_a_slice_cleanly(tmp_path, sig, code):
+    """Ctrl-C (to the whole process group) or SIGTERM during a slice on two workers: the
+    right exit code within seconds, a one-line message, no output, no temporary file, and
+    no worker left running."""
+    import os
+    import signal
+    import time
+
+    rng = np.random.default_rng(0)
+    t, h = rng.uniform(0, 2 * np.pi, 400_000), rng.uniform(0, 40, 400_000)
+    cloud = np.column_stack([5 * np.cos(t), 5 * np.sin(t), h])
+    np.save(tmp_path / "cloud.npy", cloud)
+    out = tmp_path / "model.stl"
+    proc = subprocess.Popen([sys.executable, "-m", "wavepoly", "slice", str(tmp_path / "cloud.npy"),
+                             "-t", "0.02", "--layer", "0.1", "--workers", "2", "-o", str(out)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            start_new_session=True)
+    time.sleep(6.0)  # reading, normals, and the pool at work
+    assert proc.poll() is None, proc.communicate()
+    if sig == "SIGINT":
+        os.killpg(proc.pid, signal.SIGINT)
+    else:
+        proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=20)
+    assert proc.returncode == code, err
+    assert err.strip().count("\n") == 0 and ("interrupted" in err or "terminated" in err)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["cloud.npy"]
+    time.sleep(0.5)
+    assert _processes_with(str(tmp_path)) == []

@@ -292,3 +292,18 @@ def test_coordinates_whose_distances_overflow_are_refused(tmp_path):
     np.savetxt(path, np.array([[0.0, 0.0, 0.0], [1e300, 1.0, 0.0], [2.0, 1e300, 0.0]]))
     with pytest.raises(DataError, match="overflow"):
         read_points(path)
+
+
+def test_a_failed_write_names_the_target_and_leaves_nothing(tmp_path):
+    def fail(tmp):
+        raise OSError(28, "No space left on device")
+
+    target = tmp_path / "out.geojson"
+    with pytest.raises(DataError, match="out.geojson: cannot write: No space left on device"):
+        with atomic_path(target) as tmp:
+            fail(tmp)
+    assert list(tmp_path.iterdir()) == []
+    (tmp_path / "dir.geojson").mkdir()
+    with pytest.raises(DataError, match="dir.geojson: is a folder"):
+        with atomic_path(tmp_path / "dir.geojson"):
+            pass

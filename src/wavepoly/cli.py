@@ -8,6 +8,7 @@ traceback.
 from __future__ import annotations
 
 import os
+import signal
 import sys
 from pathlib import Path
 from typing import Annotated
@@ -288,10 +289,43 @@ def demo(out: Annotated[Path, typer.Option("--out", help="Output folder.")] = Pa
     run_demo(out, echo=typer.echo)
 
 
+class _Terminated(BaseException):
+    """SIGTERM, raised in the main thread so that work stops and outputs stay unwritten."""
+
+
+class _Interrupted(BaseException):
+    """Ctrl-C. Not KeyboardInterrupt: typer returns normally from one (exit 0, as if done)."""
+
+
+def _on_sigterm(signum, frame) -> None:
+    raise _Terminated()
+
+
+def _on_sigint(signum, frame) -> None:
+    raise _Interrupted()
+
+
+#: Exit codes of a run stopped by a signal: 128 + the signal's number, as shells report them.
+EXIT_INTERRUPTED = 128 + signal.SIGINT
+EXIT_TERMINATED = 128 + signal.SIGTERM
+
+
 def main() -> None:
-    """Entry point: run the app, turning wavepoly errors into one line and an exit code."""
+    """Entry point: run the app, turning wavepoly errors into one line and an exit code.
+
+    Ctrl-C exits 130 and SIGTERM 143, each with a one-line message; worker processes are
+    stopped and no output (nor temporary file) is left behind.
+    """
+    signal.signal(signal.SIGTERM, _on_sigterm)
+    signal.signal(signal.SIGINT, _on_sigint)  # also when the caller started us ignoring it
     try:
         app(standalone_mode=False)
+    except _Terminated:
+        typer.echo("terminated (SIGTERM): work stopped, workers ended", err=True)
+        sys.exit(EXIT_TERMINATED)
+    except (_Interrupted, KeyboardInterrupt):
+        typer.echo("interrupted (Ctrl-C): work stopped, workers ended", err=True)
+        sys.exit(EXIT_INTERRUPTED)
     except WavepolyError as exc:
         if _state["debug"]:
             raise
@@ -299,7 +333,10 @@ def main() -> None:
         sys.exit(2 if isinstance(exc, ParameterError) else 1)
     except typer.Exit as exc:
         sys.exit(exc.exit_code)
-    except typer.Abort:
+    except typer.Abort as exc:
+        if isinstance(exc.__cause__, KeyboardInterrupt):
+            typer.echo("interrupted (Ctrl-C): work stopped, workers ended", err=True)
+            sys.exit(EXIT_INTERRUPTED)
         typer.echo("aborted", err=True)
         sys.exit(1)
     except Exception as exc:  # usage errors of the (vendored) click, and anything unexpected

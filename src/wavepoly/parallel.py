@@ -7,6 +7,7 @@ to another engine (a cluster) without changing the stages.
 from __future__ import annotations
 
 import os
+import signal
 from collections.abc import Callable, Iterable, Sequence
 from concurrent.futures import ProcessPoolExecutor
 from typing import TypeVar
@@ -34,8 +35,26 @@ def run_jobs(work: Callable[[Job], Result], jobs: Sequence[Job], workers: int | 
     count = resolve_workers(workers)
     if count == 1 or len(jobs) <= 1:
         return _collect(map(work, jobs), len(jobs), progress)
-    with ProcessPoolExecutor(max_workers=min(count, len(jobs))) as pool:
-        return _collect(pool.map(work, jobs, chunksize=1), len(jobs), progress)
+    pool = ProcessPoolExecutor(max_workers=min(count, len(jobs)), initializer=_ignore_interrupts)
+    try:
+        out = _collect(pool.map(work, jobs, chunksize=1), len(jobs), progress)
+    except BaseException:  # an error, Ctrl-C or SIGTERM: no worker may outlive the caller
+        _stop(pool)
+        raise
+    pool.shutdown()
+    return out
+
+
+def _ignore_interrupts() -> None:
+    """Workers leave Ctrl-C (sent to the whole process group) to the caller, which stops them."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def _stop(pool: ProcessPoolExecutor) -> None:
+    """Terminate the pool's workers now, whatever they are doing, and drop pending work."""
+    for process in list(getattr(pool, "_processes", {}).values()):
+        process.terminate()
+    pool.shutdown(wait=True, cancel_futures=True)
 
 
 def _collect(results: Iterable[Result], total: int,
