@@ -172,3 +172,15 @@ def test_a_signal_stops_a_slice_cleanly(tmp_path, sig, code):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["cloud.npy"]
     time.sleep(0.5)
     assert _processes_with(str(tmp_path)) == []
+
+
+def test_a_read_only_output_is_replaced_only_with_force(glyph_file, tmp_path):
+    target = tmp_path / "o.geojson"
+    target.write_text("{}")
+    target.chmod(0o444)
+    out = run("fit", glyph_file, "-t", "0.08", "-o", target)
+    assert out.returncode == 2 and "read-only" in out.stderr
+    assert target.read_text() == "{}"
+    out = run("fit", glyph_file, "-t", "0.08", "-o", target, "--force")
+    assert out.returncode == 0, out.stderr
+    assert json.loads(target.read_text())["type"] == "FeatureCollection"

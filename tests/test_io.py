@@ -307,3 +307,19 @@ def test_a_failed_write_names_the_target_and_leaves_nothing(tmp_path):
     with pytest.raises(DataError, match="dir.geojson: is a folder"):
         with atomic_path(tmp_path / "dir.geojson"):
             pass
+
+
+def test_a_gzip_bomb_is_refused_at_its_first_line(tmp_path):
+    """A small .log.gz that inflates to 64 MiB of NULs: refused within the first 64 KiB."""
+    import gzip
+    import time
+
+    path = tmp_path / "bomb.log.gz"
+    with gzip.open(path, "wb", compresslevel=9) as fh:
+        for _ in range(64):
+            fh.write(b"\0" * (1 << 20))
+    assert path.stat().st_size < 200_000
+    t0 = time.perf_counter()
+    with pytest.raises(DataError, match="longer than"):
+        read_points(path)
+    assert time.perf_counter() - t0 < 2.0

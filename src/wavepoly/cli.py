@@ -26,6 +26,7 @@ _state = {"debug": False}
 
 FormatOpt = Annotated[str | None, typer.Option("--format", "-f",
                                                help="Input format, overriding the extension.")]
+ForceOpt = Annotated[bool, typer.Option("--force", help="Replace read-only outputs.")]
 ColumnsOpt = Annotated[str | None, typer.Option(
     "--columns", help="0-based coordinate columns of text files, e.g. '0,1' or '1,2,3'.")]
 
@@ -113,11 +114,11 @@ def fit_command(
                       ] = None,
     plot: Annotated[Path | None, typer.Option(help="Write a figure of the fit (PNG).")] = None,
     report: Annotated[Path | None, typer.Option(help="Write a JSON report.")] = None,
-    seed: int = 0, fmt: FormatOpt = None, columns: ColumnsOpt = None,
+    seed: int = 0, fmt: FormatOpt = None, columns: ColumnsOpt = None, force: ForceOpt = False,
 ) -> None:
     """Fit concise polygons within the tolerance (ordering, wavelets, reconstruction)."""
     _check_outputs([path], [(output, wavepoly.POLYGON_FORMATS), (plot, FIGURE_FORMATS),
-                            (report, REPORT_FORMATS)])
+                            (report, REPORT_FORMATS)], force)
     rel = _relative_tolerance(relative_tolerance)
     pts = wavepoly.validate_points(wavepoly.as_planar(_read(path, fmt, columns), str(path)),
                                    source=str(path), min_points=3)
@@ -138,10 +139,11 @@ def fit_command(
         typer.echo(f"wrote {plot}")
 
 
-def _check_outputs(inputs: list[Path], outputs: list[tuple[Path | None, tuple[str, ...]]]
-                   ) -> None:
+def _check_outputs(inputs: list[Path], outputs: list[tuple[Path | None, tuple[str, ...]]],
+                   force: bool = False) -> None:
     """Before any work: every output has a known extension, a folder that exists, is not an
-    input (nor another output), and is not a read-only file; nothing is written otherwise."""
+    input (nor another output), and is not a read-only file (unless ``force``); nothing is
+    written otherwise."""
     sources = {p.resolve() for p in inputs if p.exists()}
     seen: set[Path] = set()
     for out, formats in outputs:
@@ -160,8 +162,10 @@ def _check_outputs(inputs: list[Path], outputs: list[tuple[Path | None, tuple[st
             raise ParameterError(f"{out}: given as two outputs")
         if out.is_dir():
             raise ParameterError(f"{out}: is a folder")
-        if out.exists() and not os.access(out, os.W_OK):
-            raise ParameterError(f"{out}: exists and is read-only")
+        read_only = out.exists() and (not out.stat().st_mode & 0o222  # no write bit, even
+                                      or not os.access(out, os.W_OK))  # for root
+        if read_only and not force:
+            raise ParameterError(f"{out}: exists and is read-only (--force replaces it)")
         seen.add(target)
 
 
@@ -231,11 +235,11 @@ def slice_command(
     plot: Annotated[Path | None, typer.Option(help="Write figures (PNG): the 3D layer model, "
                                                    "and a contact sheet next to it.")] = None,
     report: Annotated[Path | None, typer.Option(help="Write a JSON report.")] = None,
-    fmt: FormatOpt = None, columns: ColumnsOpt = None,
+    fmt: FormatOpt = None, columns: ColumnsOpt = None, force: ForceOpt = False,
 ) -> None:
     """Slice a 3D cloud into layers, fit each layer's contours, write the layer model."""
     _check_outputs([path], [(output, wavepoly.LAYER_FORMATS), (plot, FIGURE_FORMATS),
-                            (report, REPORT_FORMATS)])
+                            (report, REPORT_FORMATS)], force)
     if (layer is None) == (not adaptive):
         raise ParameterError("give either --layer THICKNESS or --adaptive")
     direction = axis if axis.lower() in ("x", "y", "z") else _vector(axis)
