@@ -323,3 +323,14 @@ def test_a_gzip_bomb_is_refused_at_its_first_line(tmp_path):
     with pytest.raises(DataError, match="longer than"):
         read_points(path)
     assert time.perf_counter() - t0 < 2.0
+
+
+def test_pcd_point_counts_that_lie_are_refused(tmp_path):
+    rows = "\n".join(f"{k} {k * 0.5} 0" for k in range(12))
+    head = ("# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
+            "WIDTH {n}\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS {n}\nDATA ascii\n")
+    (tmp_path / "ok.pcd").write_text(head.format(n=12) + rows)
+    assert read_points(tmp_path / "ok.pcd").shape == (12, 3)
+    (tmp_path / "lie.pcd").write_text(head.format(n=1000000000) + rows)
+    with pytest.raises(DataError, match="says 1000000000 points but 12 rows"):
+        read_points(tmp_path / "lie.pcd")

@@ -278,6 +278,9 @@ def _read_pcd(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndarr
     wanted = [f for f in ("x", "y", "z") if f in fields]
     if mode == "ascii":
         table = np.loadtxt(raw[offset:].decode("ascii").splitlines(), ndmin=2)
+        if "POINTS" in header and len(table) != npts:
+            raise DataError(f"{path}: the header says {npts} points but {len(table)} rows "
+                            "follow")
         starts = np.cumsum([0, *counts[:-1]])
         return table[:, [starts[fields.index(f)] for f in wanted]]
     if mode == "binary":
