@@ -125,17 +125,21 @@ def fit_command(
     with _progress("fitting contours") as progress:
         result = wavepoly.fit(pts, tolerance, relative_tolerance=rel, radius=radius, seed=seed,
                               progress=progress)
+    doc = wavepoly.fit_report(result, str(path)) if report else None
+    figure = None
+    if plot:  # everything is made before the first file is written
+        from wavepoly.plot import plot_fit, save_figure
+
+        figure = plot_fit(pts, result)
     wavepoly.write_polygons(output, result)
     for line in wavepoly.fit_summary(result):
         typer.echo(line)
     typer.echo(f"wrote {output}")
     if report:
-        wavepoly.write_report(report, wavepoly.fit_report(result, str(path)))
+        wavepoly.write_report(report, doc)
         typer.echo(f"wrote {report}")
     if plot:
-        from wavepoly.plot import plot_fit, save_figure
-
-        save_figure(plot_fit(pts, result), plot)
+        save_figure(figure, plot)
         typer.echo(f"wrote {plot}")
 
 
@@ -257,20 +261,24 @@ def slice_command(
                                           layer_thickness=layer, adaptive=adaptive,
                                           min_layer=min_layer, max_layer=max_layer, band=band,
                                           workers=workers, progress=progress)
+    doc = wavepoly.slice_report(result, str(path)) if report else None
+    figures = None
+    if plot:  # everything is made before the first file is written
+        from wavepoly.plot import plot_contact_sheet, plot_layer_model, save_figure
+
+        figures = (plot_layer_model(result), plot_contact_sheet(result))
     wavepoly.write_layers(output, result, units=units, separate=separate_bodies)
     typer.echo(wavepoly.slice_summary(result))
     for note in result.notes:
         typer.echo(f"note: {note}")
     typer.echo(f"wrote {output}")
     if report:
-        wavepoly.write_report(report, wavepoly.slice_report(result, str(path)))
+        wavepoly.write_report(report, doc)
         typer.echo(f"wrote {report}")
     if plot:
-        from wavepoly.plot import plot_contact_sheet, plot_layer_model, save_figure
-
-        save_figure(plot_layer_model(result), plot)
+        save_figure(figures[0], plot)
         sheet = plot.with_name(plot.stem + "-layers" + plot.suffix)
-        save_figure(plot_contact_sheet(result), sheet)
+        save_figure(figures[1], sheet)
         typer.echo(f"wrote {plot} and {sheet}")
 
 
