@@ -334,3 +334,20 @@ def test_pcd_point_counts_that_lie_are_refused(tmp_path):
     (tmp_path / "lie.pcd").write_text(head.format(n=1000000000) + rows)
     with pytest.raises(DataError, match="says 1000000000 points but 12 rows"):
         read_points(tmp_path / "lie.pcd")
+
+
+@pytest.mark.parametrize("text", [
+    "x,y,z\n1,2,3\n4,5,6\n7,8,9.5\n",
+    "# a comment\n1 2 3  # trailing\n4 5 6\n\n7 8 9\n",
+    "1\t2\n3\t4\n5\t6.25\n",
+    "p 1 2 3\np 4 5 6\np 7 8 9\n",
+    "3 2 0 0\n0 1.0 2.0\n1 3.0 4.0\n2 5.0 6.5\n",
+])
+def test_the_fast_table_reader_agrees_with_the_line_parser(tmp_path, text, monkeypatch):
+    import wavepoly.io.readers as readers
+
+    path = tmp_path / "t.txt"
+    path.write_text(text)
+    fast = read_points(path)
+    monkeypatch.setattr(readers, "_read_table_fast", lambda *args: None)
+    np.testing.assert_array_equal(fast, read_points(path))

@@ -106,7 +106,15 @@ def _select_columns(table: np.ndarray, fmt: str, columns: tuple[int, ...] | None
 
 
 def _read_text(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndarray:
-    """Whitespace/comma separated columns; '#' comments, one header line, Hoppe and .gtn rows."""
+    """Whitespace/comma separated columns; '#' comments, one header line, Hoppe and .gtn rows.
+
+    A plain table (the common case) is parsed by NumPy's C reader (`_read_table_fast`); any
+    other file, or any table NumPy refuses, goes through the line-by-line parser below, which
+    also words the refusals.
+    """
+    fast = _read_table_fast(path, fmt, columns)
+    if fast is not None:
+        return fast
     rows: list[list[str]] = []
     header_seen = False
     with _open_text(path) as fh:
@@ -152,6 +160,71 @@ def _bounded_lines(fh, path: Path):
             raise DataError(f"{path}: a line is longer than {MAX_LINE} characters; "
                             "not a table of points")
         yield line
+
+
+#: Bytes scanned at a time for the longest line before the fast parse.
+_SCAN_CHUNK = 1 << 24
+
+
+def _read_table_fast(path: Path, fmt: str, columns: tuple[int, ...] | None
+                     ) -> np.ndarray | None:
+    """A plain numeric table (whitespace or comma separated, '#' comments, at most one header
+    line) read with ``np.loadtxt``; None for anything else (gzip, Hoppe 'p' rows, .gtn count
+    headers, ragged rows, lines over `MAX_LINE`), which the line parser handles."""
+    if path.name.lower().endswith(".gz") or fmt == "gtn" or _longest_line(path) > MAX_LINE:
+        return None
+    with open(path, "rb") as fh:
+        head = fh.read(MAX_LINE).decode("utf-8", errors="replace").splitlines()
+    lines = [ln.split("#", 1)[0].strip() for ln in head]
+    lines = [ln for ln in lines if ln]
+    if len(lines) < 2:
+        return None
+    skip = 0 if all(_is_number(t) for t in _SPLIT.split(lines[0]) if t) else 1
+    first = [t for t in _SPLIT.split(lines[skip]) if t]
+    if not first or not all(_is_number(t) for t in first) or _looks_like_gtn([first] * 2):
+        return None
+    delimiter = "," if "," in lines[skip] else None
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # an empty file warns; the line parser refuses it
+            table = np.loadtxt(path, comments="#", delimiter=delimiter, skiprows=skip,
+                               ndmin=2, encoding="utf-8")
+    except (ValueError, UnicodeDecodeError):
+        return None
+    if skip and _header_rows(path) != 1:  # more than one non-numeric line: let the parser say
+        return None
+    if not len(table):
+        return None
+    return _select_columns(table, fmt, columns, path)
+
+
+def _header_rows(path: Path) -> int:
+    """Non-comment lines before the first numeric one (np.loadtxt skipped exactly one)."""
+    count = 0
+    with open(path, encoding="utf-8", errors="replace") as fh:
+        for raw in fh:
+            line = raw.split("#", 1)[0].strip()
+            if not line:
+                continue
+            if all(_is_number(t) for t in _SPLIT.split(line) if t):
+                return count
+            count += 1
+    return count
+
+
+def _longest_line(path: Path) -> int:
+    """The longest line of a file in bytes, scanned in chunks (no line is held)."""
+    longest, run = 0, 0
+    with open(path, "rb") as fh:
+        while chunk := fh.read(_SCAN_CHUNK):
+            breaks = np.flatnonzero(np.frombuffer(chunk, dtype=np.uint8) == 10)
+            if not len(breaks):
+                run += len(chunk)
+                longest = max(longest, run)
+                continue
+            longest = max(longest, run + int(breaks[0]), int(np.diff(breaks).max(initial=0)))
+            run = len(chunk) - int(breaks[-1]) - 1
+    return max(longest, run)
 
 
 def _snippet(text: str, size: int = 24) -> str:
