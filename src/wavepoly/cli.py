@@ -241,7 +241,8 @@ def slice_command(
     report: Annotated[Path | None, typer.Option(help="Write a JSON report.")] = None,
     fmt: FormatOpt = None, columns: ColumnsOpt = None, force: ForceOpt = False,
 ) -> None:
-    """Slice a 3D cloud into layers, fit each layer's contours, write the layer model."""
+    """Slice a 3D cloud (or, with --from-mesh, its faces) into layers whose contours are its
+    cross-sections within the tolerance; write the layer model."""
     _check_outputs([path], [(output, wavepoly.LAYER_FORMATS), (plot, FIGURE_FORMATS),
                             (report, REPORT_FORMATS)], force)
     if (layer is None) == (not adaptive):
