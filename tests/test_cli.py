@@ -157,10 +157,10 @@ def test_a_signal_stops_a_slice_cleanly(tmp_path, sig, code):
     np.save(tmp_path / "cloud.npy", cloud)
     out = tmp_path / "model.stl"
     proc = subprocess.Popen([sys.executable, "-m", "wavepoly", "slice", str(tmp_path / "cloud.npy"),
-                             "-t", "0.02", "--layer", "0.1", "--workers", "2", "-o", str(out)],
+                             "-t", "0.02", "--layer", "0.05", "--workers", "2", "-o", str(out)],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             start_new_session=True)
-    time.sleep(6.0)  # reading, normals, and the pool at work
+    time.sleep(5.0)  # reading, normals, and the pool at work (the whole run takes ~40 s)
     assert proc.poll() is None, proc.communicate()
     if sig == "SIGINT":
         os.killpg(proc.pid, signal.SIGINT)
