@@ -251,33 +251,6 @@ def polyline_distance(points: FloatArray, vertices: FloatArray, closed: bool) ->
     return nearest_segment(points, vertices, closed)[1]
 
 
-def contour_geometry(contour: Contour) -> shapely.Geometry:
-    """The contour as a shapely LinearRing boundary (closed) or LineString (open)."""
-    v = contour.vertices
-    if contour.closed and len(v) >= 3:
-        return shapely.linearrings(v)
-    return shapely.linestrings(v) if len(v) >= 2 else shapely.points(v[0])
-
-
-def distance_to_contours(points: FloatArray, contours: list[Contour]) -> FloatArray:
-    """Distance of each point to the nearest of ``contours`` (their boundaries, not interiors)."""
-    if not contours:
-        return np.full(len(points), np.inf)
-    if len(contours) <= 16:  # a KD-tree pass per contour beats an STRtree of geometries
-        out = np.full(len(points), np.inf)
-        for c in contours:
-            closed = c.closed and len(c.vertices) >= 3
-            np.minimum(out, polyline_distance(points[:, :2], c.vertices, closed), out=out)
-        return out
-    geoms = [contour_geometry(c) for c in contours]
-    tree = shapely.STRtree(geoms)
-    (pidx, _), dist = tree.query_nearest(shapely.points(points[:, :2]), return_distance=True,
-                                         all_matches=False)
-    out = np.full(len(points), np.inf)
-    np.minimum.at(out, pidx, dist)
-    return out
-
-
 def nest_contours(contours: list[Contour]) -> list[int]:
     """For each contour, the index of the smallest closed contour that contains it, or -1.
 

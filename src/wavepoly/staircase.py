@@ -54,16 +54,31 @@ def slab_errors(uvh: FloatArray, bottom: float, top: float, contours: list[Conto
     ``below`` / ``above`` are the contours of the neighbouring layers (None: no layer there,
     so the whole face is exposed).
     """
+    def faces(cs):
+        return None if cs is None else _Faces(region(cs), walls(cs))
+
+    return _slab_errors(uvh, bottom, top, faces(contours), faces(below), faces(above))
+
+
+class _Faces:
+    """A layer's area and wall lines, made once for its own slab and its neighbours'."""
+
+    def __init__(self, area: shapely.Geometry, lines: shapely.Geometry):
+        self.area, self.lines = area, lines
+
+
+def _slab_errors(uvh: FloatArray, bottom: float, top: float, own: _Faces,
+                 below: _Faces | None, above: _Faces | None) -> FloatArray:
     if not len(uvh):
         return np.empty(0)
     xy, h = uvh[:, :2], uvh[:, 2]
-    own = region(contours)
-    err = _to(walls(contours), xy)
+    err = _to(own.lines, xy)
     for other, dz in ((above, top - h), (below, h - bottom)):
-        exposed = own if other is None else shapely.symmetric_difference(own, region(other))
+        exposed = own.area if other is None else shapely.symmetric_difference(own.area,
+                                                                              other.area)
         np.minimum(err, np.hypot(dz, _to(exposed, xy)), out=err)
-        if other:  # the neighbour's own walls, one face away
-            np.minimum(err, np.hypot(dz, _to(walls(other), xy)), out=err)
+        if other is not None:  # the neighbour's own walls, one face away
+            np.minimum(err, np.hypot(dz, _to(other.lines, xy)), out=err)
     return err
 
 
@@ -71,14 +86,14 @@ def layer_errors(uvh: FloatArray, bottoms: FloatArray, tops: FloatArray,
                  contours: list[list[Contour]]) -> list[float]:
     """The largest staircase error of each layer's slab (``uvh`` sorted by height); inf for a
     layer with points and no contour, 0 for one without points."""
+    faces = [_Faces(region(cs), walls(cs)) for cs in contours]
     out = []
     for k, (b, t) in enumerate(zip(bottoms, tops)):
         s0, s1 = np.searchsorted(uvh[:, 2], [b, t])
         if s1 <= s0:
             out.append(0.0)
             continue
-        below = contours[k - 1] if k > 0 else None
-        above = contours[k + 1] if k + 1 < len(contours) else None
-        errs = slab_errors(uvh[s0:s1], b, t, contours[k], below, above)
-        out.append(float(errs.max()))
+        below = faces[k - 1] if k > 0 else None
+        above = faces[k + 1] if k + 1 < len(faces) else None
+        out.append(float(_slab_errors(uvh[s0:s1], b, t, faces[k], below, above).max()))
     return out

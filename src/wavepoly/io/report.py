@@ -14,6 +14,7 @@ import numpy as np
 
 from ..types import FitResult, Ordering, SliceResult, within
 from .atomic import write_text_atomic
+from .layers import build_plate_offset
 
 
 def write_report(path: str | Path, report: dict) -> None:
@@ -69,7 +70,7 @@ def slice_report(result: SliceResult, source: str) -> dict:
         "input": source, "points": result.n_points, "tolerance": result.tolerance,
         "adaptive": result.adaptive, "layers": len(result.layers),
         "model_error": result.model_error, "model_error_kind": "3D staircase",
-        "build_plate_offset": -min((la.bottom for la in result.layers), default=0.0),
+        "build_plate_offset": build_plate_offset(result),
         "vertices": result.n_vertices,
         "per_layer": [{"bottom": la.bottom, "thickness": la.thickness, "z": la.z,
                        "band_points": la.fit.n_points, "slab_points": la.slab_points,
