@@ -60,22 +60,26 @@ MAX_FLATNESS = 0.25
 MAX_SLIDE = 2.0
 
 
-def surface_samples(uvh: FloatArray, k: int = SURFACE_NEIGHBOURS) -> SurfaceSamples:
+def surface_samples(uvh: FloatArray, k: int = SURFACE_NEIGHBOURS,
+                    rows: slice | None = None) -> SurfaceSamples:
     """Normals and neighbourhood extents of a cloud given in plane coordinates (u, v, height).
 
     Parameters
     ----------
     uvh : (N, 3) points; the third column is the height along the slicing axis.
     k : neighbours per point for its tangent plane.
+    rows : the points to describe (default: all); their neighbours are sought among all of
+        ``uvh``. The samples returned are of ``uvh[rows]``.
     """
-    n = len(uvh)
-    k = max(3, min(k, n))
+    k = max(3, min(k, len(uvh)))
     tree = cKDTree(uvh)
+    own = uvh if rows is None else uvh[rows]
+    n = len(own)
     normals = np.empty((n, 3))
     low, high, radius, flatness = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
     for start in range(0, n, CHUNK):
         stop = min(n, start + CHUNK)
-        dist, idx = tree.query(uvh[start:stop], k=k)
+        dist, idx = tree.query(own[start:stop], k=k)
         nbr = uvh[idx]
         centred = nbr - nbr.mean(axis=1, keepdims=True)
         cov = np.einsum("nki,nkj->nij", centred, centred)
@@ -85,7 +89,7 @@ def surface_samples(uvh: FloatArray, k: int = SURFACE_NEIGHBOURS) -> SurfaceSamp
         low[start:stop] = nbr[:, :, 2].min(axis=1)
         high[start:stop] = nbr[:, :, 2].max(axis=1)
         radius[start:stop] = dist[:, -1]
-    return SurfaceSamples(uvh, normals, low, high, radius, flatness)
+    return SurfaceSamples(own, normals, low, high, radius, flatness)
 
 
 def section_points(surface: SurfaceSamples, rows: slice, z: float) -> FloatArray:

@@ -35,25 +35,32 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .bands import (
+    band_of,
+    fit_layer,
+    fit_layer_job,
+    layer_error_job,
+    layer_starts,
+    max_gap,
+)
 from .errors import DataError, ParameterError
-from .fit import fit
-from .geometry import nest_contours, orient_by_depth
-from .parallel import run_jobs
-from .polylines import close_gaps, fit_polylines
+from .parallel import resolve_workers, run_jobs
+from .polylines import fit_polylines
 from .sections import mesh_section, section_points, surface_samples
 from .staircase import layer_errors, slab_errors
 from .types import (
     DEFAULT_RELATIVE_TOLERANCE,
+    ErrorJob,
     FitResult,
     FloatArray,
     Layer,
     LayerJob,
+    LayerSpec,
     SliceResult,
     SurfaceSamples,
     within,
 )
 from .validate import check_relative_tolerance, check_tolerance, validate_points
-from .validity import check_contours
 
 AXES = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}
 #: Refuse plans of more layers than this: a thickness that small is a unit mistake.
@@ -62,13 +69,10 @@ MAX_LAYERS = 100_000
 LAYER_COUNT_SLACK = 1e-9
 #: Adaptive thicknesses grow and shrink by this factor per trial (Wu et al. use a similar step).
 GROWTH = 1.25
-#: Fewer section points than this make no contour (a speck where a cap grazes the plane).
-MIN_SECTION_POINTS = 8
-#: Open ends of a layer's section are bridged across gaps up to this many layer thicknesses
-#: plus `GAP_TOLERANCES` tolerances: the points missing at a sharp vertical edge or where the
-#: surface is nearly in the plane leave gaps of about a layer's thickness.
-GAP_LAYERS = 1.0
-GAP_TOLERANCES = 4.0
+#: A uniform layer's first band holds this many layers on either side of its slab (enough for
+#: the neighbourhoods of scans whose spacing is below a layer's thickness); it doubles for the
+#: layers whose slab points reach beyond it.
+BAND_REACH = 1
 
 
 def plane_basis(axis: str | FloatArray) -> FloatArray:
@@ -123,33 +127,37 @@ def slice_cloud(points3d: FloatArray, tolerance: float, *, axis: str | FloatArra
     band = check_tolerance(band, "band") if band is not None else None
     basis = plane_basis(axis)
     t0 = time.perf_counter()
-    uvh = pts @ basis.T
+    uvh = to_plane(pts, basis)
     uvh = uvh[np.argsort(uvh[:, 2], kind="stable")]
-    surface = surface_samples(uvh)
     if adaptive:
         lo = check_tolerance(min_layer if min_layer is not None else 2 * tolerance, "min_layer")
         hi = check_tolerance(max_layer if max_layer is not None else 20 * tolerance, "max_layer")
         if lo > hi:
             raise ParameterError(f"min_layer {lo:g} is thicker than max_layer {hi:g}")
-        plan = adaptive_layers(surface, _Bounds(tolerance, lo, hi, band, relative_tolerance),
-                               progress)
+        plan = adaptive_layers(surface_samples(uvh),
+                               _Bounds(tolerance, lo, hi, band, relative_tolerance), progress)
         bottoms = np.array([p[0] for p in plan])
         thick = np.array([p[1] for p in plan])
         fits = [p[2] for p in plan]
-        planning, fitting = time.perf_counter() - t0, 0.0
+        timings = {"planning": time.perf_counter() - t0, "fitting": 0.0}
+        t0 = time.perf_counter()
+        errors = layer_errors(uvh, bottoms, bottoms + thick, [f.contours for f in fits])
     else:
         if layer_thickness is None:
             raise ParameterError("give a layer thickness, or adaptive=True with its bounds")
         step = check_tolerance(layer_thickness, "layer_thickness")
         bottoms, thick = uniform_layers(uvh[0, 2], uvh[-1, 2], step)
-        jobs = [LayerJob(_section(surface, b, t, band), tolerance, relative_tolerance,
-                         float(b + t / 2), _max_gap(t, tolerance)) for b, t in zip(bottoms, thick)]
-        planning = time.perf_counter() - t0
+        specs = layer_specs(bottoms, thick, tolerance, relative_tolerance, band)
+        starts = layer_starts(uvh[:, 2], bottoms)
+        timings = {"planning": time.perf_counter() - t0}
         t0 = time.perf_counter()
-        fits = run_jobs(fit_layer_job, jobs, workers, progress)
-        fitting = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    errors = layer_errors(uvh, bottoms, bottoms + thick, [f.contours for f in fits])
+        fits = fit_bands(specs, lambda first, stop: uvh[starts[first]:starts[stop]],
+                         lambda work, jobs: run_jobs(work, jobs, workers, progress))
+        timings["fitting"] = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        errors = run_jobs(layer_error_job, error_jobs(
+            specs, [f.contours for f in fits], lambda k: uvh[starts[k]:starts[k + 1]]),
+            workers)
     layers = []
     for b, t, res, err in zip(bottoms, thick, fits, errors):
         s0, s1 = np.searchsorted(uvh[:, 2], [b, b + t])
@@ -157,8 +165,57 @@ def slice_cloud(points3d: FloatArray, tolerance: float, *, axis: str | FloatArra
                             err))
     layers = _trim_empty_ends(layers, tolerance)
     notes = _notes(layers, tolerance)
-    timings = {"planning": planning, "fitting": fitting, "model_error": time.perf_counter() - t0}
-    return SliceResult(layers, basis, tolerance, adaptive, len(pts), timings, tuple(notes))
+    timings["model_error"] = time.perf_counter() - t0
+    engine = {"kind": "local", "workers": 1 if adaptive else resolve_workers(workers)}
+    return SliceResult(layers, basis, tolerance, adaptive, len(pts), timings, tuple(notes),
+                       engine)
+
+
+def to_plane(points: FloatArray, basis: FloatArray) -> FloatArray:
+    """(u, v, height) of 3D points: their coordinates along ``basis`` rows, each computed
+    elementwise so that a chunk of a cloud gets the very numbers of the whole cloud."""
+    x, y, z = points[:, 0], points[:, 1], points[:, 2]
+    return np.column_stack([x * b[0] + y * b[1] + z * b[2] for b in basis])
+
+
+def layer_specs(bottoms: FloatArray, thick: FloatArray, tolerance: float,
+                relative_tolerance: float | None, band: float | None) -> list[LayerSpec]:
+    """The parameters of each uniform layer, with the heights of its first band."""
+    specs = []
+    for k, (b, t) in enumerate(zip(bottoms, thick)):
+        _, _, low, high = band_of(bottoms, thick, k, BAND_REACH)
+        specs.append(LayerSpec(float(b), float(t), low, high, tolerance, relative_tolerance,
+                               band, max_gap(float(t), tolerance)))
+    return specs
+
+
+def fit_bands(specs: list[LayerSpec], points_of: Callable, run: Callable) -> list[FitResult]:
+    """The fit of every layer from its band: ``points_of(first, stop)`` gives the points of
+    layers ``first:stop`` (sorted by height) and ``run(work, jobs)`` runs the jobs (a pool, a
+    cluster). Layers whose band was too narrow are sent again with twice the reach."""
+    bottoms = np.array([s.bottom for s in specs])
+    thick = np.array([s.thickness for s in specs])
+    fits: list[FitResult | None] = [None] * len(specs)
+    pending, reach = list(range(len(specs))), BAND_REACH
+    while pending:
+        jobs = []
+        for k in pending:
+            first, stop, low, high = band_of(bottoms, thick, k, reach)
+            jobs.append(LayerJob(replace(specs[k], low=low, high=high),
+                                 points_of(first, stop)))
+        for k, res in zip(pending, run(fit_layer_job, jobs)):
+            fits[k] = res
+        pending, reach = [k for k in pending if fits[k] is None], 2 * reach
+    return fits  # type: ignore[return-value]
+
+
+def error_jobs(specs: list[LayerSpec], contours: list[list], slab_of: Callable
+               ) -> list[ErrorJob]:
+    """The staircase-error job of each layer: ``slab_of(k)`` gives layer k's slab points."""
+    n = len(specs)
+    return [ErrorJob(slab_of(k), s.bottom, s.bottom + s.thickness, contours[k],
+                     contours[k - 1] if k > 0 else None, contours[k + 1] if k + 1 < n else None)
+            for k, s in enumerate(specs)]
 
 
 def slice_mesh(mesh, tolerance: float, *, layer_thickness: float,
@@ -257,55 +314,13 @@ def _try_layer(surface: SurfaceSamples, bottom: float, thickness: float, bounds:
     (against the layer below, and with the top face taken as exposed)?"""
     mid = bottom + thickness / 2
     res = fit_layer(_section(surface, bottom, thickness, bounds.band), bounds.tolerance / 2,
-                    bounds.relative_tolerance, mid, _max_gap(thickness, bounds.tolerance))
+                    bounds.relative_tolerance, mid, max_gap(thickness, bounds.tolerance))
     s0, s1 = np.searchsorted(surface.uvh[:, 2], [bottom, bottom + thickness])
     if s1 == s0:
         return res, True
     errs = slab_errors(surface.uvh[s0:s1], bottom, bottom + thickness, res.contours, below,
                        None)
     return res, within(float(errs.max()), bounds.tolerance)
-
-
-def _max_gap(thickness: float, tolerance: float) -> float:
-    return GAP_LAYERS * thickness + GAP_TOLERANCES * tolerance
-
-
-def fit_layer(points: FloatArray, tolerance: float, relative_tolerance: float | None,
-              z: float, max_gap: float = 0.0) -> FitResult:
-    """The fit of one layer's section points (a pure function: safe in any worker), its open
-    pieces bridged across gaps up to ``max_gap`` (`wavepoly.polylines.close_gaps`).
-
-    Too few points (the plane misses the object, or grazes a cap) give a layer with no contour
-    and a note, not an error.
-    """
-    if len(points) < MIN_SECTION_POINTS:
-        return FitResult([], tolerance, 0.0, 0.0, np.arange(len(points)), len(points),
-                         notes=(f"no contour: {len(points)} section point(s)",), z=z)
-    try:
-        res = fit(points, tolerance, relative_tolerance=relative_tolerance)
-    except DataError as exc:
-        return FitResult([], tolerance, 0.0, 0.0, np.arange(len(points)), len(points),
-                         notes=(f"no contour: {exc}",), z=z)
-    return replace(_closed_up(res, max_gap), z=z)
-
-
-def _closed_up(res: FitResult, max_gap: float) -> FitResult:
-    """The fit with its open pieces bridged into closed sections, where that stays valid."""
-    if max_gap <= 0 or all(c.closed for c in res.contours):
-        return res
-    contours, bridges = close_gaps(res.contours, max_gap)
-    validity = check_contours(contours)
-    if not bridges or not validity.valid:
-        return res
-    parents = nest_contours(contours)
-    note = f"{bridges} gap(s) in the section bridged (up to {max_gap:.3g})"
-    return replace(res, contours=orient_by_depth(contours, parents), parents=parents,
-                   reports=[], validity=validity, notes=(*res.notes, note))
-
-
-def fit_layer_job(job: LayerJob) -> FitResult:
-    """Fit a layer's section points (``job.section``) on its mid-plane."""
-    return fit_layer(job.section, job.tolerance, job.relative_tolerance, job.z, job.max_gap)
 
 
 def _trim_empty_ends(layers: list[Layer], tolerance: float) -> list[Layer]:

@@ -2,7 +2,8 @@
 
 Data flows one way: points -> `Ordering` (of `Chain` and `OrderedContour`) -> `Pyramid` (the
 wavelet levels) -> `Reconstruction` -> `Contour` -> `FitResult` -> writers; for 3D clouds,
-`LayerJob` -> `Layer` records in a `SliceResult`. Nothing here imports another wavepoly module.
+`LayerJob` (a `LayerSpec` and its band of points) -> `Layer` records in a `SliceResult`.
+Nothing here imports another wavepoly module.
 """
 
 from __future__ import annotations
@@ -291,18 +292,52 @@ class SurfaceSamples:
 
 
 @dataclass(frozen=True)
-class LayerJob:
-    """What one layer's fit needs, and nothing more (it travels to a worker process).
+class LayerSpec:
+    """A layer's parameters: all that its fit needs besides its band of the cloud (small, it
+    travels to a worker ahead of the points).
 
-    section: (m, 2) plane coordinates of the points on the layer's mid-plane section, fitted
-    on the mid-plane at height ``z``; max_gap: the widest gap between open pieces to bridge.
+    bottom, thickness: the slab [bottom, bottom + thickness) that the layer stands for;
+    low, high: the heights that the band of points covers (-inf / inf where it reaches the
+    cloud's ends): a point's neighbourhood is complete when it lies within them;
+    section_band: only slab points within ``section_band / 2`` of the mid-plane give section
+    points (None: the whole slab); max_gap: the widest gap between open pieces to bridge.
     """
 
-    section: FloatArray
+    bottom: float
+    thickness: float
+    low: float
+    high: float
     tolerance: float
     relative_tolerance: float | None
-    z: float
-    max_gap: float = 0.0  # open pieces are bridged across gaps up to this
+    section_band: float | None = None
+    max_gap: float = 0.0
+
+    @property
+    def z(self) -> float:
+        """Height of the layer's mid-plane."""
+        return self.bottom + 0.5 * self.thickness
+
+
+@dataclass(frozen=True)
+class LayerJob:
+    """One layer's fit: its parameters and its band of the cloud, (u, v, height) sorted by
+    height, that holds the slab and the points around it (it travels to a worker process)."""
+
+    spec: LayerSpec
+    points: FloatArray
+
+
+@dataclass(frozen=True)
+class ErrorJob:
+    """One layer's staircase error: its slab's points (u, v, height) and the contours of the
+    layer and of its neighbours (None: no layer there)."""
+
+    slab: FloatArray
+    bottom: float
+    top: float
+    own: list[Contour]
+    below: list[Contour] | None
+    above: list[Contour] | None
 
 
 @dataclass(frozen=True)
@@ -347,6 +382,7 @@ class SliceResult:
     n_points: int
     timings: dict[str, float] = field(default_factory=dict)
     notes: tuple[str, ...] = ()
+    engine: dict = field(default_factory=dict)  # where the layers were fitted (the report)
 
     @property
     def model_error(self) -> float:

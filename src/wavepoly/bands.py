@@ -1,0 +1,123 @@
+"""One layer from its band of the cloud alone: the unit of work that goes to a worker.
+
+A layer's section needs the tangent planes of its slab's points (`wavepoly.sections`), and a
+point's tangent plane needs its neighbourhood, which reaches a little above and below the
+slab. So a layer's job carries a *band*: the slab and whole layers on either side of it. The
+job knows which heights its band covers, so it can tell whether each slab point's
+neighbourhood lies within them (then it is the same neighbourhood as in the whole cloud); when
+one does not, the job answers None and the caller sends a wider band. The answer is thus the
+same whether the layers run in this process, in a local pool or on a cluster, and no worker
+ever holds more of the cloud than a few layers.
+
+The staircase error of a layer (`wavepoly.staircase`) is a job of its own (`ErrorJob`): it
+needs the contours of the layers next to it, known only once they are fitted.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from .errors import DataError
+from .fit import fit
+from .geometry import nest_contours, orient_by_depth
+from .polylines import close_gaps
+from .sections import SURFACE_NEIGHBOURS, section_points, surface_samples
+from .staircase import slab_errors
+from .types import ErrorJob, FitResult, FloatArray, IntArray, LayerJob, LayerSpec
+from .validity import check_contours
+
+#: Fewer section points than this make no contour (a speck where a cap grazes the plane).
+MIN_SECTION_POINTS = 8
+#: Open ends of a layer's section are bridged across gaps up to this many layer thicknesses
+#: plus `GAP_TOLERANCES` tolerances: the points missing at a sharp vertical edge or where the
+#: surface is nearly in the plane leave gaps of about a layer's thickness.
+GAP_LAYERS = 1.0
+GAP_TOLERANCES = 4.0
+
+
+def max_gap(thickness: float, tolerance: float) -> float:
+    """The widest gap in a layer's section that is bridged (see `GAP_LAYERS`)."""
+    return GAP_LAYERS * thickness + GAP_TOLERANCES * tolerance
+
+
+def layer_starts(heights: FloatArray, bottoms: FloatArray) -> IntArray:
+    """Row where each layer's slab starts in a cloud sorted by ``heights``, and its end: layer
+    ``k`` holds rows ``starts[k]:starts[k + 1]`` (heights in [bottoms[k], bottoms[k + 1]))."""
+    return np.append(np.searchsorted(heights, bottoms), len(heights))
+
+
+def band_of(bottoms: FloatArray, thickness: FloatArray, k: int, reach: int
+            ) -> tuple[int, int, float, float]:
+    """Layers ``first:stop`` of the band of layer ``k`` with ``reach`` layers either side, and
+    the heights it covers (-inf / inf at the cloud's ends)."""
+    first, stop = max(0, k - reach), min(len(bottoms), k + reach + 1)
+    low = -np.inf if first == 0 else float(bottoms[first])
+    high = np.inf if stop == len(bottoms) else float(bottoms[stop - 1] + thickness[stop - 1])
+    return first, stop, low, high
+
+
+def section_rows(heights: FloatArray, spec: LayerSpec) -> slice:
+    """Rows of a band (sorted ``heights``) whose points may give section points."""
+    half = spec.thickness / 2
+    if spec.section_band is not None:
+        half = min(spec.section_band, spec.thickness) / 2
+    return slice(*np.searchsorted(heights, [spec.z - half, spec.z + half]))
+
+
+def fit_layer_job(job: LayerJob) -> FitResult | None:
+    """The fit of a layer's mid-plane section from its band, or None when the band is too
+    narrow for some slab point's neighbourhood (the caller sends a wider one)."""
+    spec, uvh = job.spec, job.points
+    rows = section_rows(uvh[:, 2], spec)
+    section = np.empty((0, 2))
+    if rows.stop > rows.start:
+        surface = surface_samples(uvh, SURFACE_NEIGHBOURS, rows)
+        h = surface.uvh[:, 2]
+        complete = (h - surface.radius >= spec.low) & (h + surface.radius <= spec.high)
+        if not np.all(complete):
+            return None
+        section = section_points(surface, slice(None), spec.z)
+    return fit_layer(section, spec.tolerance, spec.relative_tolerance, spec.z, spec.max_gap)
+
+
+def fit_layer(points: FloatArray, tolerance: float, relative_tolerance: float | None,
+              z: float, gap: float = 0.0) -> FitResult:
+    """The fit of one layer's section points (a pure function: safe in any worker), its open
+    pieces bridged across gaps up to ``gap`` (`wavepoly.polylines.close_gaps`).
+
+    Too few points (the plane misses the object, or grazes a cap) give a layer with no contour
+    and a note, not an error.
+    """
+    if len(points) < MIN_SECTION_POINTS:
+        return FitResult([], tolerance, 0.0, 0.0, np.arange(len(points)), len(points),
+                         notes=(f"no contour: {len(points)} section point(s)",), z=z)
+    try:
+        res = fit(points, tolerance, relative_tolerance=relative_tolerance)
+    except DataError as exc:
+        return FitResult([], tolerance, 0.0, 0.0, np.arange(len(points)), len(points),
+                         notes=(f"no contour: {exc}",), z=z)
+    return replace(_closed_up(res, gap), z=z)
+
+
+def _closed_up(res: FitResult, gap: float) -> FitResult:
+    """The fit with its open pieces bridged into closed sections, where that stays valid."""
+    if gap <= 0 or all(c.closed for c in res.contours):
+        return res
+    contours, bridges = close_gaps(res.contours, gap)
+    validity = check_contours(contours)
+    if not bridges or not validity.valid:
+        return res
+    parents = nest_contours(contours)
+    note = f"{bridges} gap(s) in the section bridged (up to {gap:.3g})"
+    return replace(res, contours=orient_by_depth(contours, parents), parents=parents,
+                   reports=[], validity=validity, notes=(*res.notes, note))
+
+
+def layer_error_job(job: ErrorJob) -> float:
+    """The largest staircase error of a layer's slab (0 without points)."""
+    if not len(job.slab):
+        return 0.0
+    errs = slab_errors(job.slab, job.bottom, job.top, job.own, job.below, job.above)
+    return float(errs.max())

@@ -1,0 +1,75 @@
+"""One layer from its band: the same section as from the whole cloud, or a call for a wider band."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from wavepoly.bands import band_of, fit_layer_job, layer_error_job, layer_starts, section_rows
+from wavepoly.sections import section_points, surface_samples
+from wavepoly.slicing import error_jobs, fit_bands, layer_specs, to_plane, uniform_layers
+from wavepoly.staircase import layer_errors
+from wavepoly.types import LayerJob
+
+
+def cone(n=40000, seed=3):
+    """A cone, so that every slab point slides along a slope to the mid-plane."""
+    rng = np.random.default_rng(seed)
+    t, h = rng.uniform(0, 2 * np.pi, n), rng.uniform(0, 8, n)
+    r = 6.0 - 0.5 * h
+    pts = np.column_stack([r * np.cos(t), r * np.sin(t), h])
+    return pts + rng.normal(scale=0.01, size=pts.shape)
+
+
+def sorted_plane(pts):
+    uvh = to_plane(pts, np.eye(3))
+    return uvh[np.argsort(uvh[:, 2], kind="stable")]
+
+
+def test_the_band_gives_the_section_of_the_whole_cloud():
+    uvh = sorted_plane(cone())
+    bottoms, thick = uniform_layers(uvh[0, 2], uvh[-1, 2], 1.0)
+    specs = layer_specs(bottoms, thick, 0.05, None, None)
+    starts = layer_starts(uvh[:, 2], bottoms)
+    whole = surface_samples(uvh)
+    for k in (0, 3, len(specs) - 2):
+        first, stop, low, high = band_of(bottoms, thick, k, 1)
+        band = uvh[starts[first]:starts[stop]]
+        rows = section_rows(band[:, 2], specs[k])
+        from_band = section_points(surface_samples(band, rows=rows), slice(None), specs[k].z)
+        offset = starts[first]
+        rows_whole = slice(rows.start + offset, rows.stop + offset)
+        from_whole = section_points(whole, rows_whole, specs[k].z)
+        np.testing.assert_allclose(from_band, from_whole, atol=1e-12)
+        assert len(from_band) > 100
+
+
+def test_a_band_too_narrow_for_the_neighbourhoods_asks_for_a_wider_one():
+    uvh = sorted_plane(cone(4000))
+    bottoms, thick = uniform_layers(uvh[0, 2], uvh[-1, 2], 0.05)
+    specs = layer_specs(bottoms, thick, 0.05, None, None)
+    starts = layer_starts(uvh[:, 2], bottoms)
+    k = len(specs) // 2
+    first, stop, _, _ = band_of(bottoms, thick, k, 1)
+    assert fit_layer_job(LayerJob(specs[k], uvh[starts[first]:starts[stop]])) is None
+    calls = []
+
+    def run(work, jobs):
+        calls.append(len(jobs))
+        return [work(j) for j in jobs]
+
+    fits = fit_bands(specs, lambda a, b: uvh[starts[a]:starts[b]], run)
+    assert all(f is not None for f in fits) and len(calls) > 1 and calls[-1] < calls[0]
+
+
+def test_error_jobs_give_the_staircase_error_of_the_whole_stack():
+    uvh = sorted_plane(cone())
+    bottoms, thick = uniform_layers(uvh[0, 2], uvh[-1, 2], 1.0)
+    specs = layer_specs(bottoms, thick, 0.05, None, None)
+    starts = layer_starts(uvh[:, 2], bottoms)
+    fits = fit_bands(specs, lambda a, b: uvh[starts[a]:starts[b]],
+                     lambda work, jobs: [work(j) for j in jobs])
+    contours = [f.contours for f in fits]
+    jobs = error_jobs(specs, contours, lambda k: uvh[starts[k]:starts[k + 1]])
+    got = [layer_error_job(j) for j in jobs]
+    assert got == layer_errors(uvh, bottoms, bottoms + thick, contours)
+    assert 0 < max(got) < 0.5  # at most half a layer on this slope
