@@ -5,8 +5,9 @@ from __future__ import annotations
 import numpy as np
 
 from wavepoly.bands import band_of, fit_layer_job, layer_error_job, layer_starts, section_rows
+from wavepoly.geometry import to_plane
 from wavepoly.sections import section_points, surface_samples
-from wavepoly.slicing import error_jobs, fit_bands, layer_specs, to_plane, uniform_layers
+from wavepoly.slicing import band_jobs, error_jobs, fit_bands, layer_specs, uniform_layers
 from wavepoly.staircase import layer_errors
 from wavepoly.types import LayerJob
 
@@ -53,11 +54,11 @@ def test_a_band_too_narrow_for_the_neighbourhoods_asks_for_a_wider_one():
     assert fit_layer_job(LayerJob(specs[k], uvh[starts[first]:starts[stop]])) is None
     calls = []
 
-    def run(work, jobs):
-        calls.append(len(jobs))
-        return [work(j) for j in jobs]
+    def run(tasks):
+        calls.append(len(tasks))
+        return [fit_layer_job(j) for j in band_jobs(uvh, starts, tasks)]
 
-    fits = fit_bands(specs, lambda a, b: uvh[starts[a]:starts[b]], run)
+    fits = fit_bands(specs, run)
     assert all(f is not None for f in fits) and len(calls) > 1 and calls[-1] < calls[0]
 
 
@@ -66,8 +67,8 @@ def test_error_jobs_give_the_staircase_error_of_the_whole_stack():
     bottoms, thick = uniform_layers(uvh[0, 2], uvh[-1, 2], 1.0)
     specs = layer_specs(bottoms, thick, 0.05, None, None)
     starts = layer_starts(uvh[:, 2], bottoms)
-    fits = fit_bands(specs, lambda a, b: uvh[starts[a]:starts[b]],
-                     lambda work, jobs: [work(j) for j in jobs])
+    fits = fit_bands(specs, lambda tasks: [fit_layer_job(j)
+                                           for j in band_jobs(uvh, starts, tasks)])
     contours = [f.contours for f in fits]
     jobs = error_jobs(specs, contours, lambda k: uvh[starts[k]:starts[k + 1]])
     got = [layer_error_job(j) for j in jobs]

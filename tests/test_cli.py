@@ -144,7 +144,7 @@ def _processes_with(marker: str) -> list[int]:
 
 @pytest.mark.parametrize("sig, code", [("SIGTERM", 143), ("SIGINT", 130)])
 def test_a_signal_stops_a_slice_cleanly(tmp_path, sig, code):
-    """Ctrl-C (to the whole process group) or SIGTERM during a slice on two workers: the
+    """Ctrl-C (to the whole process group) or SIGTERM during a slice on the local pool: the
     right exit code within seconds, a one-line message, no output, no temporary file, and
     no worker left running."""
     import os
@@ -157,7 +157,7 @@ def test_a_signal_stops_a_slice_cleanly(tmp_path, sig, code):
     np.save(tmp_path / "cloud.npy", cloud)
     out = tmp_path / "model.stl"
     proc = subprocess.Popen([sys.executable, "-m", "wavepoly", "slice", str(tmp_path / "cloud.npy"),
-                             "-t", "0.02", "--layer", "0.05", "--workers", "2", "-o", str(out)],
+                             "-t", "0.02", "--layer", "0.05", "-o", str(out)],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             start_new_session=True)
     time.sleep(5.0)  # reading, normals, and the pool at work (the whole run takes ~40 s)

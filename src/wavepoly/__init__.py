@@ -15,7 +15,7 @@ True
 
 from importlib.metadata import PackageNotFoundError, version
 
-from .errors import DataError, ParameterError, WavepolyError
+from .errors import DataError, EngineError, ParameterError, WavepolyError
 from .fit import fit
 from .io import (
     LAYER_FORMATS,
@@ -33,8 +33,10 @@ from .io import (
     write_polygons,
     write_report,
 )
+from .io.tiles import expand_sources
 from .ordering import curve_spacing, median_spacing, order_points
 from .slicing import slice_cloud, slice_mesh
+from .tiled import dask_available, scheduler_from_environment, slice_tiles
 from .types import (
     DEFAULT_RELATIVE_TOLERANCE,
     Contour,
@@ -52,10 +54,11 @@ try:
 except PackageNotFoundError:  # pragma: no cover - running from a source tree
     __version__ = "0.0.0"
 
-__all__ = ["Contour", "ContourReport", "DEFAULT_RELATIVE_TOLERANCE", "DataError", "FitResult",
-           "LAYER_FORMATS", "Layer", "OrderedContour", "Ordering", "POLYGON_FORMATS",
-           "ParameterError", "SliceResult", "WavepolyError", "__version__", "as_planar",
-           "curve_spacing", "detect_format", "fit", "fit_report", "fit_summary", "median_spacing",
-           "order_points", "ordering_summary", "read_mesh", "read_points", "slice_cloud",
-           "slice_mesh", "slice_report", "slice_summary", "validate_points", "write_layers",
-           "write_points", "write_polygons", "write_report"]
+__all__ = ["__version__", "as_planar", "Contour", "ContourReport", "curve_spacing",
+           "dask_available", "DataError", "DEFAULT_RELATIVE_TOLERANCE", "detect_format",
+           "EngineError", "expand_sources", "fit", "fit_report", "fit_summary", "FitResult",
+           "Layer", "LAYER_FORMATS", "median_spacing", "order_points", "OrderedContour",
+           "Ordering", "ordering_summary", "ParameterError", "POLYGON_FORMATS", "read_mesh",
+           "read_points", "scheduler_from_environment", "slice_cloud", "slice_mesh",
+           "slice_report", "slice_summary", "slice_tiles", "SliceResult", "validate_points",
+           "WavepolyError", "write_layers", "write_points", "write_polygons", "write_report"]

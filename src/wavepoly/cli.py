@@ -216,7 +216,9 @@ class _progress:
 
 @app.command(name="slice")
 def slice_command(
-    path: Annotated[Path, typer.Argument(help="3D cloud (.ply .pts .xyz .las .laz .conf ...).")],
+    paths: Annotated[list[Path], typer.Argument(
+        help="3D cloud (.ply .pts .xyz .las .laz .conf ...); several files, a folder or a "
+             "quoted pattern ('tiles/*.laz') are sliced as one cloud.")],
     tolerance: Annotated[float, typer.Option("--tolerance", "-t",
                                              help="Shape tolerance (the cloud's units).")],
     output: Annotated[Path, typer.Option("--output", "-o",
@@ -233,8 +235,12 @@ def slice_command(
     separate_bodies: Annotated[bool, typer.Option(
         "--separate-bodies", help="STL: one closed body per layer, not their union.")] = False,
     axis: Annotated[str, typer.Option(help="Slicing axis: x, y, z or 'ax,ay,az'.")] = "z",
-    workers: Annotated[int | None, typer.Option(help="Processes (default: all cores).")
-                       ] = None,
+    workers: Annotated[int | None, typer.Option(
+        help="Processes (default: all cores); with the dask extra, a local Dask cluster of "
+             "that many workers.")] = None,
+    scheduler: Annotated[str | None, typer.Option(
+        help="Fit the layers on the Dask cluster of this scheduler (tcp://host:8786; also "
+             "from DASK_SCHEDULER_ADDRESS).")] = None,
     units: Annotated[float, typer.Option(help="Millimetres per unit (.cli header).")] = 1.0,
     plot: Annotated[Path | None, typer.Option(help="Write figures (PNG): the 3D layer model, "
                                                    "and a contact sheet next to it.")] = None,
@@ -243,26 +249,43 @@ def slice_command(
 ) -> None:
     """Slice a 3D cloud (or, with --from-mesh, its faces) into layers whose contours are its
     cross-sections within the tolerance; write the layer model."""
-    _check_outputs([path], [(output, wavepoly.LAYER_FORMATS), (plot, FIGURE_FORMATS),
-                            (report, REPORT_FORMATS)], force)
+    sources = wavepoly.expand_sources(paths)
+    _check_outputs(sources, [(output, wavepoly.LAYER_FORMATS), (plot, FIGURE_FORMATS),
+                             (report, REPORT_FORMATS)], force)
     if (layer is None) == (not adaptive):
         raise ParameterError("give either --layer THICKNESS or --adaptive")
     direction = axis if axis.lower() in ("x", "y", "z") else _vector(axis)
+    scheduler = scheduler or wavepoly.scheduler_from_environment()
+    if from_mesh or adaptive:
+        if scheduler:
+            raise ParameterError("--scheduler fits uniform layers (--layer) of a cloud; "
+                                 "adaptive layers and --from-mesh run here")
+        if len(sources) > 1:
+            raise ParameterError(f"{'--from-mesh' if from_mesh else '--adaptive'} slices one "
+                                 f"file, got {len(sources)}")
     if from_mesh:
         if adaptive:
             raise ParameterError("--from-mesh slices uniform layers (--layer); adaptive "
                                  "layers need the cloud")
-        result = wavepoly.slice_mesh(wavepoly.read_mesh(path), tolerance, axis=direction,
-                                     layer_thickness=layer)
-    else:
-        pts = wavepoly.validate_points(_read(path, fmt, columns), source=str(path),
+        result = wavepoly.slice_mesh(wavepoly.read_mesh(sources[0]), tolerance,
+                                     axis=direction, layer_thickness=layer)
+    elif adaptive:
+        pts = wavepoly.validate_points(_read(sources[0], fmt, columns), source=str(sources[0]),
                                        min_points=3)
         with _progress("fitting layers") as progress:
-            result = wavepoly.slice_cloud(pts, tolerance, axis=direction,
-                                          layer_thickness=layer, adaptive=adaptive,
+            result = wavepoly.slice_cloud(pts, tolerance, axis=direction, adaptive=True,
                                           min_layer=min_layer, max_layer=max_layer, band=band,
-                                          workers=workers, progress=progress)
-    doc = wavepoly.slice_report(result, str(path)) if report else None
+                                          progress=progress)
+    else:
+        if not scheduler and workers is not None and wavepoly.dask_available():
+            scheduler = "local"
+        with _progress("fitting layers") as progress:
+            result = wavepoly.slice_tiles(sources, tolerance, axis=direction,
+                                          layer_thickness=layer, band=band,
+                                          scheduler=scheduler, workers=workers, fmt=fmt,
+                                          columns=_columns(columns), progress=progress)
+    source = str(sources[0]) if len(sources) == 1 else [str(p) for p in sources]
+    doc = wavepoly.slice_report(result, source) if report else None
     figures = None
     if plot:  # everything is made before the first file is written
         from wavepoly.plot import plot_contact_sheet, plot_layer_model, save_figure

@@ -13,3 +13,8 @@ class DataError(WavepolyError, ValueError):
 
 class ParameterError(WavepolyError, ValueError):
     """A parameter is out of its domain (a tolerance <= 0, a wrong level count, ...)."""
+
+
+class EngineError(WavepolyError):
+    """Where the work should run is not available (a Dask scheduler out of reach, an extra
+    not installed)."""

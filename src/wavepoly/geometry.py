@@ -292,3 +292,10 @@ def orient_by_depth(contours: list[Contour], parents: list[int]) -> list[Contour
             c = Contour(c.vertices[::-1].copy(), c.closed, c.max_error, c.mean_error)
         out.append(c)
     return out
+
+
+def to_plane(points: FloatArray, basis: FloatArray) -> FloatArray:
+    """(u, v, height) of 3D points: their coordinates along ``basis`` rows, each computed
+    elementwise so that a chunk of a cloud gets the very numbers of the whole cloud."""
+    x, y, z = points[:, 0], points[:, 1], points[:, 2]
+    return np.column_stack([x * b[0] + y * b[1] + z * b[2] for b in basis])

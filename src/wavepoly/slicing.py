@@ -44,6 +44,7 @@ from .bands import (
     max_gap,
 )
 from .errors import DataError, ParameterError
+from .geometry import to_plane
 from .parallel import resolve_workers, run_jobs
 from .polylines import fit_polylines
 from .sections import mesh_section, section_points, surface_samples
@@ -53,6 +54,7 @@ from .types import (
     ErrorJob,
     FitResult,
     FloatArray,
+    IntArray,
     Layer,
     LayerJob,
     LayerSpec,
@@ -151,31 +153,30 @@ def slice_cloud(points3d: FloatArray, tolerance: float, *, axis: str | FloatArra
         starts = layer_starts(uvh[:, 2], bottoms)
         timings = {"planning": time.perf_counter() - t0}
         t0 = time.perf_counter()
-        fits = fit_bands(specs, lambda first, stop: uvh[starts[first]:starts[stop]],
-                         lambda work, jobs: run_jobs(work, jobs, workers, progress))
+        fits = fit_bands(specs, lambda tasks: run_jobs(
+            fit_layer_job, band_jobs(uvh, starts, tasks), workers, progress))
         timings["fitting"] = time.perf_counter() - t0
         t0 = time.perf_counter()
         errors = run_jobs(layer_error_job, error_jobs(
             specs, [f.contours for f in fits], lambda k: uvh[starts[k]:starts[k + 1]]),
             workers)
-    layers = []
-    for b, t, res, err in zip(bottoms, thick, fits, errors):
-        s0, s1 = np.searchsorted(uvh[:, 2], [b, b + t])
-        layers.append(Layer(float(b), float(t), (float(b), float(b + t)), res, int(s1 - s0),
-                            err))
-    layers = _trim_empty_ends(layers, tolerance)
-    notes = _notes(layers, tolerance)
+    counts = np.diff(layer_starts(uvh[:, 2], bottoms)) if not adaptive else np.diff(
+        np.searchsorted(uvh[:, 2], np.append(bottoms, bottoms[-1] + thick[-1])))
     timings["model_error"] = time.perf_counter() - t0
     engine = {"kind": "local", "workers": 1 if adaptive else resolve_workers(workers)}
-    return SliceResult(layers, basis, tolerance, adaptive, len(pts), timings, tuple(notes),
-                       engine)
+    return layer_model(bottoms, thick, fits, errors, counts,
+                       SliceResult([], basis, tolerance, adaptive, len(pts), timings,
+                                   engine=engine))
 
 
-def to_plane(points: FloatArray, basis: FloatArray) -> FloatArray:
-    """(u, v, height) of 3D points: their coordinates along ``basis`` rows, each computed
-    elementwise so that a chunk of a cloud gets the very numbers of the whole cloud."""
-    x, y, z = points[:, 0], points[:, 1], points[:, 2]
-    return np.column_stack([x * b[0] + y * b[1] + z * b[2] for b in basis])
+def layer_model(bottoms: FloatArray, thick: FloatArray, fits: list[FitResult],
+                errors: list[float], counts: IntArray, frame: SliceResult) -> SliceResult:
+    """The layer model of fitted layers: ``frame`` (a result without layers) with the layers,
+    less the empty ones at the ends, and the notes on them."""
+    layers = [Layer(float(b), float(t), (float(b), float(b + t)), res, int(n), err)
+              for b, t, res, err, n in zip(bottoms, thick, fits, errors, counts)]
+    layers = _trim_empty_ends(layers, frame.tolerance)
+    return replace(frame, layers=layers, notes=tuple(_notes(layers, frame.tolerance)))
 
 
 def layer_specs(bottoms: FloatArray, thick: FloatArray, tolerance: float,
@@ -189,24 +190,31 @@ def layer_specs(bottoms: FloatArray, thick: FloatArray, tolerance: float,
     return specs
 
 
-def fit_bands(specs: list[LayerSpec], points_of: Callable, run: Callable) -> list[FitResult]:
-    """The fit of every layer from its band: ``points_of(first, stop)`` gives the points of
-    layers ``first:stop`` (sorted by height) and ``run(work, jobs)`` runs the jobs (a pool, a
-    cluster). Layers whose band was too narrow are sent again with twice the reach."""
+def fit_bands(specs: list[LayerSpec], run: Callable[[list[tuple[LayerSpec, int, int]]], list]
+              ) -> list[FitResult]:
+    """The fit of every layer from its band. ``run(tasks)`` fits each task ``(spec, first,
+    stop)`` from the points of layers ``first:stop`` (`wavepoly.bands.fit_layer_job`) on some
+    engine (this process, a pool, a cluster). Layers whose band was too narrow for their
+    points' neighbourhoods are sent again with twice the reach."""
     bottoms = np.array([s.bottom for s in specs])
     thick = np.array([s.thickness for s in specs])
     fits: list[FitResult | None] = [None] * len(specs)
     pending, reach = list(range(len(specs))), BAND_REACH
     while pending:
-        jobs = []
+        tasks = []
         for k in pending:
             first, stop, low, high = band_of(bottoms, thick, k, reach)
-            jobs.append(LayerJob(replace(specs[k], low=low, high=high),
-                                 points_of(first, stop)))
-        for k, res in zip(pending, run(fit_layer_job, jobs)):
+            tasks.append((replace(specs[k], low=low, high=high), first, stop))
+        for k, res in zip(pending, run(tasks)):
             fits[k] = res
         pending, reach = [k for k in pending if fits[k] is None], 2 * reach
     return fits  # type: ignore[return-value]
+
+
+def band_jobs(uvh: FloatArray, starts: IntArray, tasks: list[tuple[LayerSpec, int, int]]
+              ) -> list[LayerJob]:
+    """The jobs of ``tasks`` on a cloud in memory (sorted by height, layers from ``starts``)."""
+    return [LayerJob(spec, uvh[starts[first]:starts[stop]]) for spec, first, stop in tasks]
 
 
 def error_jobs(specs: list[LayerSpec], contours: list[list], slab_of: Callable

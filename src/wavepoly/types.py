@@ -341,6 +341,16 @@ class ErrorJob:
 
 
 @dataclass(frozen=True)
+class TileSummary:
+    """One tile of a cloud: its file, point count and height range along the slicing axis."""
+
+    path: str
+    count: int
+    low: float
+    high: float
+
+
+@dataclass(frozen=True)
 class Layer:
     """One layer of the model.
 

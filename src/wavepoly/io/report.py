@@ -64,8 +64,9 @@ def fit_summary(result: FitResult) -> list[str]:
     return lines
 
 
-def slice_report(result: SliceResult, source: str) -> dict:
-    """The JSON report of a slicing: per layer heights, thickness, contours, errors."""
+def slice_report(result: SliceResult, source: str | list[str]) -> dict:
+    """The JSON report of a slicing: per layer heights, thickness, contours, errors, and the
+    engine that fitted the layers (``{"kind": "local" | "dask", ...}``)."""
     return {
         "input": source, "points": result.n_points, "tolerance": result.tolerance,
         "adaptive": result.adaptive, "layers": len(result.layers),
@@ -81,7 +82,7 @@ def slice_report(result: SliceResult, source: str) -> dict:
                        "model_error": la.model_error if np.isfinite(la.model_error) else None,
                        "outliers": len(la.fit.outliers), "notes": list(la.fit.notes)}
                       for la in result.layers],
-        "timings": result.timings, "notes": list(result.notes),
+        "timings": result.timings, "notes": list(result.notes), "engine": result.engine,
     }
 
 
