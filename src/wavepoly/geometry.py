@@ -244,6 +244,40 @@ def _thin_blocks(points: FloatArray, starts: IntArray, ends: IntArray, dirs: Flo
     keep[index[inside]] = False
 
 
+def segments_distance(points: FloatArray, a: FloatArray, b: FloatArray, k: int = 6,
+                      limit: FloatArray | float | None = None) -> FloatArray:
+    """Distance of each point to the nearest of the segments ``a[i]``-``b[i]`` (any set: rings,
+    lines, pieces). Exact, by the bound of `nearest_segment`: each point tries the segments of
+    its ``k`` nearest end points, and those without a proof go to an STRtree. With a
+    ``limit`` (per point or one), a distance is exact below it and otherwise only known to be
+    at least the limit (the value returned is then at least the limit).
+
+    >>> a, b = np.array([[0.0, 0.0], [5.0, 0.0]]), np.array([[1.0, 0.0], [5.0, 1.0]])
+    >>> segments_distance(np.array([[0.5, 0.5], [4.0, 0.5]]), a, b)
+    array([0.5, 1. ])
+    """
+    points = np.asarray(points, dtype=np.float64)
+    if len(points) == 0 or len(a) == 0:
+        return np.full(len(points), np.inf)
+    if len(a) <= _FEW_SEGMENTS:
+        return _nearest_segment_brute(points, a, b)[1]
+    a, b, _ = _cut_long_segments(a, b)
+    ends = np.vstack([a, b])
+    k = min(k, len(ends))
+    vdist, vidx = cKDTree(ends).query(points, k=k)
+    vdist, vidx = vdist.reshape(len(points), k), vidx.reshape(len(points), k)
+    _, dist = _nearest_candidate(points, a, b, vidx % len(a))
+    half = 0.5 * float(np.hypot(*(b - a).T).max())
+    bound = np.sqrt(np.maximum(vdist[:, -1] ** 2 - half**2, 0.0))
+    unsure = dist > bound if k < len(ends) else np.zeros(len(points), dtype=bool)
+    if limit is not None:
+        unsure &= bound < limit
+    unsure = np.flatnonzero(unsure)
+    if len(unsure):
+        dist[unsure] = _nearest_segment_tree(points[unsure], a, b)[1]
+    return dist
+
+
 def polyline_distance(points: FloatArray, vertices: FloatArray, closed: bool) -> FloatArray:
     """Distance of each point to a polyline (closed: including the last-to-first segment)."""
     if len(vertices) == 1:

@@ -31,7 +31,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
-from .types import FloatArray, SurfaceSamples
+from .types import FloatArray, IntArray, SurfaceSamples
 
 #: Neighbours of each point for its tangent plane: enough for a stable normal under noise
 #: (16 tilted flat faces' normals by 20 degrees at 0.1 % noise), few enough that the
@@ -48,6 +48,15 @@ REACH_MARGIN = 0.5
 #: cap at the mid-plane) would scatter its points over the face; the normals of a flat face
 #: scanned with noise tilt by up to 20 degrees.
 MIN_STEEPNESS = np.sin(np.radians(30.0))
+#: A neighbourhood's flatness under noise alone is about (2 sigma / radius)^2: in a scan sampled
+#: densely beside its noise, the k nearest points span too little to show the surface. It is
+#: then thinned to every 2nd, 4th... point until the median flatness is at most this (each
+#: halving widens the neighbourhood by the root of 2); a clean scan keeps every point.
+NOISE_FLATNESS = 0.2
+#: Points whose flatness decides the thinning: the median of a few thousand is stable.
+FLATNESS_SAMPLE = 2000
+#: A cloud is never thinned below this many points (a small band keeps its points).
+MIN_NODES = 2000
 #: Section end points closer than this (relative to the coordinates) are the same point.
 SNAP = 1e-9
 #: Neighbourhoods whose smallest principal variance exceeds this fraction of the middle one
@@ -62,25 +71,64 @@ MAX_SLIDE = 2.0
 
 def surface_samples(uvh: FloatArray, k: int = SURFACE_NEIGHBOURS,
                     rows: slice | None = None) -> SurfaceSamples:
-    """Normals and neighbourhood extents of a cloud given in plane coordinates (u, v, height).
+    """Tangent planes and neighbourhood extents of a cloud in plane coordinates (u, v, height).
+
+    Each tangent plane is fitted to the ``k`` nearest neighbours of a point (Hoppe et al.).
+    A scan sampled more densely than its noise allows (its median neighbourhood is not
+    planar, see `NOISE_FLATNESS`) is thinned first to every 2nd, 4th... point (in the
+    given order), and only the points kept are described: the density its noise supports.
 
     Parameters
     ----------
     uvh : (N, 3) points; the third column is the height along the slicing axis.
     k : neighbours per point for its tangent plane.
     rows : the points to describe (default: all); their neighbours are sought among all of
-        ``uvh``. The samples returned are of ``uvh[rows]``.
+        ``uvh``.
     """
     k = max(3, min(k, len(uvh)))
-    tree = cKDTree(uvh)
-    own = uvh if rows is None else uvh[rows]
-    n = len(own)
+    step, tree = node_step(uvh, k)
+    nodes = uvh[::step]
+    own = np.arange(len(uvh))[rows if rows is not None else slice(None)]
+    own = own[own % step == 0] // step
+    planes = _planes(nodes, tree, own, min(k, len(nodes)))
+    return SurfaceSamples(nodes[own], *planes)
+
+
+def node_step(uvh: FloatArray, k: int = SURFACE_NEIGHBOURS) -> tuple[int, cKDTree]:
+    """Every how many points a tangent plane is fitted, and the KD-tree of those points: 1,
+    or a power of 2 whose nodes' median flatness is at most `NOISE_FLATNESS` (judged on a
+    sample of them). Noise flatness falls as the inverse of the step (the neighbourhood's
+    area grows with it), so the first guess is the step that this predicts."""
+    step, tree = 1, cKDTree(uvh)
+    flatness = _median_flatness(uvh, tree, k)
+    if flatness > NOISE_FLATNESS:
+        guess = 2 ** int(np.ceil(np.log2(flatness / NOISE_FLATNESS)))
+        step = max(1, min(guess, len(uvh) // MIN_NODES))
+        while step > 1:
+            tree = cKDTree(uvh[::step])
+            if (_median_flatness(uvh[::step], tree, k) <= NOISE_FLATNESS
+                    or len(uvh) // (2 * step) < MIN_NODES):
+                break
+            step *= 2
+    return step, tree
+
+
+def _median_flatness(nodes: FloatArray, tree: cKDTree, k: int) -> float:
+    sample = np.arange(0, len(nodes), max(1, len(nodes) // FLATNESS_SAMPLE))
+    return float(np.median(_planes(nodes, tree, sample, min(k, len(nodes)))[4]))
+
+
+def _planes(nodes: FloatArray, tree: cKDTree, which: IntArray, k: int
+            ) -> tuple[FloatArray, ...]:
+    """Normal, neighbourhood height range (low, high), radius and flatness of the tangent
+    planes at ``nodes[which]`` from their ``k`` nearest nodes."""
+    n = len(which)
     normals = np.empty((n, 3))
     low, high, radius, flatness = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
     for start in range(0, n, CHUNK):
         stop = min(n, start + CHUNK)
-        dist, idx = tree.query(own[start:stop], k=k)
-        nbr = uvh[idx]
+        dist, idx = tree.query(nodes[which[start:stop]], k=k)
+        nbr = nodes[idx]
         centred = nbr - nbr.mean(axis=1, keepdims=True)
         cov = np.einsum("nki,nkj->nij", centred, centred)
         values, vectors = np.linalg.eigh(cov)
@@ -89,7 +137,7 @@ def surface_samples(uvh: FloatArray, k: int = SURFACE_NEIGHBOURS,
         low[start:stop] = nbr[:, :, 2].min(axis=1)
         high[start:stop] = nbr[:, :, 2].max(axis=1)
         radius[start:stop] = dist[:, -1]
-    return SurfaceSamples(own, normals, low, high, radius, flatness)
+    return normals, low, high, radius, flatness
 
 
 def section_points(surface: SurfaceSamples, rows: slice, z: float) -> FloatArray:

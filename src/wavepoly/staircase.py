@@ -19,6 +19,7 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
+from .geometry import polyline_segments, segments_distance
 from .types import Contour, FloatArray
 
 EMPTY = shapely.GeometryCollection()
@@ -40,11 +41,41 @@ def walls(contours: list[Contour]) -> shapely.Geometry:
     return shapely.union_all(lines) if lines else EMPTY
 
 
-def _to(geom: shapely.Geometry, xy: FloatArray) -> FloatArray:
-    """In-plane distance of each point to an area or lines (0 inside an area; inf if empty)."""
+def _to(geom: shapely.Geometry, xy: FloatArray, limit: FloatArray | None = None
+        ) -> FloatArray:
+    """In-plane distance of each point to an area or lines (0 inside an area; inf if empty):
+    the distance to the nearest of its boundary's or lines' segments (a KD-tree search,
+    `wavepoly.geometry.segments_distance`), 0 where an area contains the point. With a
+    ``limit``, distances at or beyond it are only known to be so."""
     if shapely.is_empty(geom):
         return np.full(len(xy), np.inf)
-    return shapely.distance(shapely.points(xy), geom)
+    pieces = [polyline_segments(v, closed) for v, closed in _polylines(geom)]
+    if not pieces:
+        return np.full(len(xy), np.inf)
+    out = segments_distance(xy, np.vstack([p[0] for p in pieces]),
+                            np.vstack([p[1] for p in pieces]), limit=limit)
+    if shapely.area(geom) > 0:
+        out[shapely.contains_xy(geom, xy[:, 0], xy[:, 1])] = 0.0
+    return out
+
+
+def _polylines(geom: shapely.Geometry) -> list[tuple[FloatArray, bool]]:
+    """The boundary rings of a geometry's areas and its lines, as (vertices, closed)."""
+    out = []
+    for part in shapely.get_parts(geom):
+        if isinstance(part, shapely.Polygon):
+            rings = [part.exterior, *part.interiors]
+        elif isinstance(part, shapely.LineString | shapely.LinearRing):
+            rings = [part]
+        else:
+            continue
+        for ring in rings:
+            xy = shapely.get_coordinates(ring)
+            closed = len(xy) > 2 and bool(np.all(xy[0] == xy[-1]))
+            xy = xy[:-1] if closed else xy
+            if len(xy):
+                out.append((xy, closed))
+    return out
 
 
 def slab_errors(uvh: FloatArray, bottom: float, top: float, contours: list[Contour],
@@ -76,10 +107,20 @@ def _slab_errors(uvh: FloatArray, bottom: float, top: float, own: _Faces,
     for other, dz in ((above, top - h), (below, h - bottom)):
         exposed = own.area if other is None else shapely.symmetric_difference(own.area,
                                                                               other.area)
-        np.minimum(err, np.hypot(dz, _to(exposed, xy)), out=err)
+        _lower(err, dz, exposed, xy)
         if other is not None:  # the neighbour's own walls, one face away
-            np.minimum(err, np.hypot(dz, _to(other.lines, xy)), out=err)
+            _lower(err, dz, other.lines, xy)
     return err
+
+
+def _lower(err: FloatArray, dz: FloatArray, geom: shapely.Geometry, xy: FloatArray) -> None:
+    """``err`` lowered in place to the distance to ``geom`` across a face ``dz`` away, where
+    that is nearer. Only the points it can lower are measured, each only as far as it can."""
+    limit = np.sqrt(np.maximum(err**2 - dz**2, 0.0))
+    need = np.flatnonzero(limit > 0)
+    if len(need):
+        d = np.hypot(dz[need], _to(geom, xy[need], limit[need]))
+        err[need] = np.minimum(err[need], d)
 
 
 def layer_errors(uvh: FloatArray, bottoms: FloatArray, tops: FloatArray,
