@@ -9,7 +9,8 @@ import time
 
 from .common import DOCS
 
-PARTS = ["wavelets", "ordering", "fit", "validity", "peers", "scaling", "slicing", "figures"]
+PARTS = ["wavelets", "ordering", "fit", "validity", "peers", "scaling", "slicing", "large",
+         "figures"]
 
 
 def main(argv: list[str]) -> None:

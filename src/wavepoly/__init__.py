@@ -34,6 +34,7 @@ from .io import (
     write_report,
 )
 from .io.tiles import expand_sources
+from .io.units import UNITS
 from .ordering import curve_spacing, median_spacing, order_points
 from .slicing import slice_cloud, slice_mesh
 from .tiled import dask_available, scheduler_from_environment, slice_tiles
@@ -54,7 +55,7 @@ try:
 except PackageNotFoundError:  # pragma: no cover - running from a source tree
     __version__ = "0.0.0"
 
-__all__ = ["__version__", "as_planar", "Contour", "ContourReport", "curve_spacing",
+__all__ = ["__version__", "UNITS", "as_planar", "Contour", "ContourReport", "curve_spacing",
            "dask_available", "DataError", "DEFAULT_RELATIVE_TOLERANCE", "detect_format",
            "EngineError", "expand_sources", "fit", "fit_report", "fit_summary", "FitResult",
            "Layer", "LAYER_FORMATS", "median_spacing", "order_points", "OrderedContour",

@@ -22,7 +22,10 @@ from wavepoly import ParameterError, WavepolyError
 app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
                   help="Concise polygons within a guaranteed tolerance from scanned points "
                        "(B-spline wavelets).")
-_state = {"debug": False}
+_state = {"debug": False, "stdout_is_output": False}
+
+#: The path that stands for standard input (an input) or standard output (``-o``).
+STDIO = "-"
 
 FormatOpt = Annotated[str | None, typer.Option("--format", "-f",
                                                help="Input format, overriding the extension.")]
@@ -56,7 +59,50 @@ def _columns(text: str | None) -> tuple[int, ...] | None:
 
 
 def _read(path: Path, fmt: str | None, columns: str | None) -> np.ndarray:
+    if str(path) == STDIO:
+        if not fmt:
+            raise ParameterError("reading standard input ('-') needs --format (xy, xyz, ply...)")
+        return wavepoly.read_points(sys.stdin.buffer, format=fmt, columns=_columns(columns))
     return wavepoly.read_points(path, fmt=fmt, columns=_columns(columns))
+
+
+def _say(text: str) -> None:
+    """A message: on standard output, or on standard error when that carries the output."""
+    typer.echo(text, err=_state["stdout_is_output"])
+
+
+def _write(output: Path, output_format: str | None, formats: tuple[str, ...], write) -> str:
+    """``write(target, fmt)`` to ``output`` or, for '-', to standard output in
+    ``output_format``; returns the name to report."""
+    if str(output) != STDIO:
+        write(output, None)
+        return str(output)
+    write(sys.stdout.buffer, output_format)
+    return "standard output"
+
+
+def _output_format(output: Path, output_format: str | None, formats: tuple[str, ...]
+                   ) -> str | None:
+    """The format of '-o -' (required, one of ``formats``); messages move to standard error."""
+    if str(output) != STDIO:
+        return None
+    if not output_format or output_format.lower() not in formats:
+        raise ParameterError(f"-o - (standard output) needs --output-format, one of "
+                             f"{', '.join(formats)}")
+    _state["stdout_is_output"] = True
+    return output_format.lower()
+
+
+def _check_units(units: str) -> None:
+    if units.lower() not in wavepoly.UNITS:
+        raise ParameterError(f"--units must be one of {', '.join(wavepoly.UNITS)}, "
+                             f"not {units!r}")
+
+
+OutputFormatOpt = Annotated[str | None, typer.Option(
+    "--output-format", help="Format of '-o -' (standard output): geojson, svg, csv...")]
+UnitsOpt = Annotated[str, typer.Option(
+    help="Length unit of the coordinates for DXF and SVG: mm, cm, m, in or unitless.")]
 
 
 @app.command()
@@ -66,15 +112,15 @@ def info(path: Annotated[Path, typer.Argument(help="Point file.")], fmt: FormatO
     pts = _read(path, fmt, columns)
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     spacing = wavepoly.median_spacing(pts[:, :2]) if len(pts) > 1 else 0.0
-    typer.echo(f"file:       {path}")
-    typer.echo(f"format:     {fmt or wavepoly.detect_format(path)}")
-    typer.echo(f"points:     {len(pts)}")
-    typer.echo(f"dimensions: {pts.shape[1]}")
+    _say(f"file:       {path}")
+    _say(f"format:     {fmt or wavepoly.detect_format(path)}")
+    _say(f"points:     {len(pts)}")
+    _say(f"dimensions: {pts.shape[1]}")
     axes = "xyz"[: pts.shape[1]]
     for k, a in enumerate(axes):
-        typer.echo(f"{a}:          {lo[k]:.6g} .. {hi[k]:.6g}  (extent {hi[k] - lo[k]:.6g})")
-    typer.echo(f"spacing:    {spacing:.4g} (median nearest-neighbour distance in x, y)")
-    typer.echo(f"suggested tolerance: {2 * spacing:.3g} (twice the spacing)")
+        _say(f"{a}:          {lo[k]:.6g} .. {hi[k]:.6g}  (extent {hi[k] - lo[k]:.6g})")
+    _say(f"spacing:    {spacing:.4g} (median nearest-neighbour distance in x, y)")
+    _say(f"suggested tolerance: {2 * spacing:.3g} (twice the spacing)")
 
 
 @app.command()
@@ -88,17 +134,17 @@ def order(
     _check_outputs([path], [(plot, FIGURE_FORMATS)])
     pts = wavepoly.as_planar(_read(path, fmt, columns), str(path))
     ordering = wavepoly.order_points(pts, radius, seed=seed)
-    typer.echo(wavepoly.ordering_summary(ordering, len(pts)))
+    _say(wavepoly.ordering_summary(ordering, len(pts)))
     for note in ordering.notes:
-        typer.echo(f"note: {note}")
+        _say(f"note: {note}")
     for k, c in enumerate(ordering.contours):
-        typer.echo(f"contour {k}: {'closed' if c.closed else 'open'}, {len(c.members)} points "
+        _say(f"contour {k}: {'closed' if c.closed else 'open'}, {len(c.members)} points "
                    f"-> {len(c.points)} ordered")
     if plot:
         from wavepoly.plot import plot_ordering, save_figure
 
         save_figure(plot_ordering(pts, ordering), plot)
-        typer.echo(f"wrote {plot}")
+        _say(f"wrote {plot}")
 
 
 @app.command(name="fit")
@@ -115,8 +161,14 @@ def fit_command(
     plot: Annotated[Path | None, typer.Option(help="Write a figure of the fit (PNG).")] = None,
     report: Annotated[Path | None, typer.Option(help="Write a JSON report.")] = None,
     seed: int = 0, fmt: FormatOpt = None, columns: ColumnsOpt = None, force: ForceOpt = False,
+    output_format: OutputFormatOpt = None, units: UnitsOpt = "unitless",
 ) -> None:
-    """Fit concise polygons within the tolerance (ordering, wavelets, reconstruction)."""
+    """Fit concise polygons within the tolerance (ordering, wavelets, reconstruction).
+
+    '-' reads standard input (with --format) and '-o -' writes standard output (with
+    --output-format); messages then go to standard error."""
+    out_fmt = _output_format(output, output_format, wavepoly.POLYGON_FORMATS)
+    _check_units(units)
     _check_outputs([path], [(output, wavepoly.POLYGON_FORMATS), (plot, FIGURE_FORMATS),
                             (report, REPORT_FORMATS)], force)
     rel = _relative_tolerance(relative_tolerance)
@@ -131,16 +183,17 @@ def fit_command(
         from wavepoly.plot import plot_fit, save_figure
 
         figure = plot_fit(pts, result)
-    wavepoly.write_polygons(output, result)
+    written = _write(output, out_fmt, wavepoly.POLYGON_FORMATS, lambda target, f:
+                     wavepoly.write_polygons(target, result, f, units=units))
     for line in wavepoly.fit_summary(result):
-        typer.echo(line)
-    typer.echo(f"wrote {output}")
+        _say(line)
+    _say(f"wrote {written}")
     if report:
         wavepoly.write_report(report, doc)
-        typer.echo(f"wrote {report}")
+        _say(f"wrote {report}")
     if plot:
         save_figure(figure, plot)
-        typer.echo(f"wrote {plot}")
+        _say(f"wrote {plot}")
 
 
 def _check_outputs(inputs: list[Path], outputs: list[tuple[Path | None, tuple[str, ...]]],
@@ -151,7 +204,7 @@ def _check_outputs(inputs: list[Path], outputs: list[tuple[Path | None, tuple[st
     sources = {p.resolve() for p in inputs if p.exists()}
     seen: set[Path] = set()
     for out, formats in outputs:
-        if out is None:
+        if out is None or str(out) == STDIO:
             continue
         if out.suffix.lstrip(".").lower() not in formats:
             raise ParameterError(f"{out}: output must end in one of "
@@ -241,14 +294,20 @@ def slice_command(
     scheduler: Annotated[str | None, typer.Option(
         help="Fit the layers on the Dask cluster of this scheduler (tcp://host:8786; also "
              "from DASK_SCHEDULER_ADDRESS).")] = None,
-    units: Annotated[float, typer.Option(help="Millimetres per unit (.cli header).")] = 1.0,
+    units: Annotated[str, typer.Option(
+        help="Length unit of the coordinates: mm, cm, m, in, unitless (.cli $$UNITS, SVG "
+             "size), or millimetres per unit as a number.")] = "unitless",
+    output_format: OutputFormatOpt = None,
     plot: Annotated[Path | None, typer.Option(help="Write figures (PNG): the 3D layer model, "
                                                    "and a contact sheet next to it.")] = None,
     report: Annotated[Path | None, typer.Option(help="Write a JSON report.")] = None,
     fmt: FormatOpt = None, columns: ColumnsOpt = None, force: ForceOpt = False,
 ) -> None:
     """Slice a 3D cloud (or, with --from-mesh, its faces) into layers whose contours are its
-    cross-sections within the tolerance; write the layer model."""
+    cross-sections within the tolerance; write the layer model ('-o -': to standard output,
+    with --output-format cli, svg or geojson)."""
+    out_fmt = _output_format(output, output_format, ("cli", "svg", "geojson"))
+    layer_units = _layer_units(units)
     sources = wavepoly.expand_sources(paths)
     _check_outputs(sources, [(output, wavepoly.LAYER_FORMATS), (plot, FIGURE_FORMATS),
                              (report, REPORT_FORMATS)], force)
@@ -291,19 +350,35 @@ def slice_command(
         from wavepoly.plot import plot_contact_sheet, plot_layer_model, save_figure
 
         figures = (plot_layer_model(result), plot_contact_sheet(result))
-    wavepoly.write_layers(output, result, units=units, separate=separate_bodies)
-    typer.echo(wavepoly.slice_summary(result))
+    written = _write(output, out_fmt, wavepoly.LAYER_FORMATS, lambda target, f:
+                     wavepoly.write_layers(target, result, f, units=layer_units,
+                                           separate=separate_bodies))
+    _say(wavepoly.slice_summary(result))
     for note in result.notes:
-        typer.echo(f"note: {note}")
-    typer.echo(f"wrote {output}")
+        _say(f"note: {note}")
+    _say(f"wrote {written}")
     if report:
         wavepoly.write_report(report, doc)
-        typer.echo(f"wrote {report}")
+        _say(f"wrote {report}")
     if plot:
         save_figure(figures[0], plot)
         sheet = plot.with_name(plot.stem + "-layers" + plot.suffix)
         save_figure(figures[1], sheet)
-        typer.echo(f"wrote {plot} and {sheet}")
+        _say(f"wrote {plot} and {sheet}")
+
+
+def _layer_units(text: str) -> str | float:
+    """--units of slice: a unit's name, or millimetres per unit."""
+    if text.lower() in wavepoly.UNITS:
+        return text.lower()
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not value > 0 or value == float("inf"):
+        raise ParameterError(f"--units must be one of {', '.join(wavepoly.UNITS)} or a number "
+                             f"of millimetres per unit, not {text!r}")
+    return value
 
 
 def _vector(text: str) -> tuple[float, float, float]:

@@ -6,7 +6,7 @@ import numpy as np
 import shapely
 from scipy.spatial import cKDTree
 
-from .types import Contour, FloatArray, IntArray
+from .types import Contour, FloatArray, IntArray, nesting_depth
 
 
 def segment_distance(points: FloatArray, a: FloatArray, b: FloatArray) -> FloatArray:
@@ -304,17 +304,6 @@ def nest_contours(contours: list[Contour]) -> list[int]:
         if j != k and (parents[k] < 0 or areas[p] < areas[closed.index(parents[k])]):
             parents[k] = j
     return parents
-
-
-def nesting_depth(parents: list[int]) -> list[int]:
-    """Number of enclosing closed contours of each contour (even: outer or island, odd: hole)."""
-    depth = []
-    for i in range(len(parents)):
-        d, p = 0, parents[i]
-        while p >= 0:
-            d, p = d + 1, parents[p]
-        depth.append(d)
-    return depth
 
 
 def orient_by_depth(contours: list[Contour], parents: list[int]) -> list[Contour]:

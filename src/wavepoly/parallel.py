@@ -46,8 +46,10 @@ def run_jobs(work: Callable[[Job], Result], jobs: Sequence[Job], workers: int | 
 
 
 def _ignore_interrupts() -> None:
-    """Workers leave Ctrl-C (sent to the whole process group) to the caller, which stops them."""
+    """Workers leave Ctrl-C (sent to the whole process group) to the caller, which stops them,
+    and end quietly on SIGTERM (not with a handler inherited from the caller)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
 
 
 def _stop(pool: ProcessPoolExecutor) -> None:

@@ -14,27 +14,39 @@ from ..errors import DataError
 from ..geometry import nesting_depth
 from ..types import SliceResult
 from .atomic import atomic_path, write_text_atomic
+from .streams import is_stream, path_for_stream
+from .units import unit_of
 from .writers import check_valid, svg_document, write_geojson
 
 LAYER_FORMATS = ("cli", "svg", "geojson", "json", "stl")
 
 
-def write_layers(path: str | Path, result: SliceResult, *, fmt: str | None = None,
-                 units: float = 1.0, separate: bool = False) -> None:
+def write_layers(path, result: SliceResult, format: str | None = None, *,
+                 fmt: str | None = None, units: str | float = "unitless",
+                 separate: bool = False) -> None:
     """Write a layer model; the format comes from the extension (`LAYER_FORMATS`).
 
-    ``units`` is the length of one coordinate unit in millimetres (the CLI header's $$UNITS);
-    ``separate`` writes an STL of one closed body per layer instead of their union.
+    ``path`` may be a file object, then ``format`` names the format. ``units`` is a unit's
+    name (`wavepoly.io.units.UNITS`: the CLI header's $$UNITS in mm, the SVG's size) or the
+    length of one coordinate unit in millimetres; ``separate`` writes an STL of one closed
+    body per layer instead of their union.
     """
+    fmt = fmt or format
+    if is_stream(path):
+        with path_for_stream(path, fmt) as tmp:
+            write_layers(tmp, result, fmt=fmt, units=units, separate=separate)
+        return
     fmt = (fmt or Path(path).suffix.lstrip(".")).lower()
+    named = isinstance(units, str)
+    millimetres = unit_of(units).millimetres if named else float(units)
     if fmt in LAYER_FORMATS:
         check_valid(path, [la.fit for la in result.layers])
     if fmt == "cli":
-        write_text_atomic(path, cli_document(result, units=units))
+        write_text_atomic(path, cli_document(result, units=millimetres))
     elif fmt == "svg":
         groups = [(f"layer-{k}-z{la.top:.6g}", la.fit.contours)
                   for k, la in enumerate(result.layers)]
-        write_text_atomic(path, svg_document(groups))
+        write_text_atomic(path, svg_document(groups, units=units if named else "unitless"))
     elif fmt in ("geojson", "json"):
         extras = [{"layer": k, "z": la.z, "bottom": la.bottom, "thickness": la.thickness}
                   for k, la in enumerate(result.layers)]

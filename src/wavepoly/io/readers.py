@@ -17,6 +17,7 @@ import numpy as np
 from ..errors import DataError
 from ..types import FloatArray
 from ..validate import validate_points
+from .streams import is_stream, stream_as_path
 
 TEXT_FORMATS = ("xyz", "xy", "txt", "csv", "pts", "p2d", "gtn", "xym", "asc")
 FORMATS = (*TEXT_FORMATS, "npy", "ply", "las", "laz", "pcd", "obj", "off", "carmen", "conf")
@@ -37,7 +38,8 @@ def detect_format(path: str | Path) -> str:
 
 
 def read_points(
-    path: str | Path,
+    path,
+    format: str | None = None,
     *,
     fmt: str | None = None,
     columns: Sequence[int] | None = None,
@@ -46,8 +48,9 @@ def read_points(
 
     Parameters
     ----------
-    path : file to read.
-    fmt : format name overriding the extension, one of `FORMATS`.
+    path : file to read: a path, or a binary or text file object (then ``format`` is
+        required).
+    format, fmt : format name overriding the extension, one of `FORMATS` (two spellings).
     columns : 0-based columns to use as coordinates (2 or 3 of them) in text and NumPy files;
         by default the first 3 (the first 2 for planar formats such as ``.xy``, ``.p2d``, ``.gtn``).
 
@@ -59,7 +62,12 @@ def read_points(
     --------
     >>> pts = read_points("scan.xyz")                      # doctest: +SKIP
     >>> pts = read_points("slice.csv", columns=(1, 2))     # doctest: +SKIP
+    >>> pts = read_points(sys.stdin.buffer, format="xy")  # doctest: +SKIP
     """
+    fmt = fmt or format
+    if is_stream(path):
+        with stream_as_path(path, fmt) as tmp:
+            return read_points(tmp, fmt=fmt, columns=columns)
     path = Path(path)
     if not path.exists():
         raise DataError(f"{path}: no such file")

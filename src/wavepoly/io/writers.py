@@ -17,25 +17,39 @@ from ..errors import DataError
 from ..geometry import nesting_depth
 from ..types import Contour, FitResult
 from .atomic import atomic_path, write_text_atomic
+from .streams import is_stream, path_for_stream
+from .units import unit_of
 
 POLYGON_FORMATS = ("geojson", "json", "svg", "dxf", "csv")
 
 
-def write_polygons(path: str | Path, result: FitResult, *, fmt: str | None = None) -> None:
+def write_polygons(path, result: FitResult, format: str | None = None, *,
+                   fmt: str | None = None, units: str = "unitless") -> None:
     """Write the contours of ``result`` to ``path``; the format comes from the extension.
 
-    GeoJSON: a FeatureCollection, closed contours as Polygons with their holes, open ones as
-    LineStrings. SVG: one path per contour, y up. DXF: one LWPOLYLINE per contour. CSV: rows of
-    ``contour,vertex,x,y,closed``.
+    ``path`` may be a file object (text or binary), then ``format`` names the format.
+    GeoJSON (RFC 7946): a FeatureCollection, closed contours as Polygons with their holes,
+    open ones as LineStrings. SVG: one path per contour, y up. DXF: one LWPOLYLINE per
+    contour. CSV: rows of ``contour,vertex,x,y,closed``. ``units`` (`UNITS`) are written
+    where the format has them: DXF's $INSUNITS, SVG's width and height.
     """
+    fmt = fmt or format
+    if is_stream(path):
+        with path_for_stream(path, fmt) as tmp:
+            write_polygons(tmp, result, fmt=fmt, units=units)
+        return
     fmt = (fmt or Path(path).suffix.lstrip(".")).lower()
+    unit_of(units)
     writer = {"geojson": write_geojson, "json": write_geojson, "svg": write_svg,
               "dxf": write_dxf, "csv": write_csv}.get(fmt)
     if writer is None:
         raise DataError(f"{path}: unknown polygon format '.{fmt}' "
                         f"(known: {', '.join(POLYGON_FORMATS)})")
     check_valid(path, [result])
-    writer(path, [result])
+    if fmt in ("svg", "dxf"):
+        writer(path, [result], units=units)
+    else:
+        writer(path, [result])
 
 
 def check_valid(path: str | Path, results: Sequence[FitResult]) -> None:
@@ -90,9 +104,10 @@ def _svg_path(c: Contour) -> str:
     return f"M {pts}{' Z' if c.closed else ''}"
 
 
-def svg_document(groups: Sequence[tuple[str, list[Contour]]], *, points: np.ndarray | None = None
-                 ) -> str:
-    """An SVG with one <g> per (label, contours) group, y axis pointing up, fitted viewBox."""
+def svg_document(groups: Sequence[tuple[str, list[Contour]]], *, points: np.ndarray | None = None,
+                 units: str = "unitless") -> str:
+    """An SVG with one <g> per (label, contours) group, y axis pointing up, fitted viewBox;
+    with ``units``, its width and height are the drawing's true size in them."""
     allv = [c.vertices for _, cs in groups for c in cs if len(c.vertices)]
     if points is not None:
         allv.append(points[:, :2])
@@ -104,8 +119,13 @@ def svg_document(groups: Sequence[tuple[str, list[Contour]]], *, points: np.ndar
     pad = 0.02 * size
     x0, y0, w, h = lo[0] - pad, -hi[1] - pad, hi[0] - lo[0] + 2 * pad, hi[1] - lo[1] + 2 * pad
     stroke = size / 500
+    unit = unit_of(units)
+    scale = unit.svg_scale
+    size_attrs = (f'width="{w * scale:.6g}{unit.svg}" height="{h * scale:.6g}{unit.svg}"'
+                  if unit.svg else
+                  f'width="800" height="{800 * h / w:.0f}"')
     out = [f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="{x0:.6g} {y0:.6g} {w:.6g} {h:.6g}" '
-           f'width="800" height="{800 * h / w:.0f}">',
+           f'{size_attrs}>',
            f'<g transform="scale(1,-1)" fill="none" stroke-width="{stroke:.3g}" '
            'stroke-linejoin="round">']
     if points is not None:
@@ -123,15 +143,15 @@ def svg_document(groups: Sequence[tuple[str, list[Contour]]], *, points: np.ndar
 
 
 def write_svg(path: str | Path, results: Sequence[FitResult],
-              labels: Sequence[str] | None = None) -> None:
+              labels: Sequence[str] | None = None, units: str = "unitless") -> None:
     groups = [(labels[k] if labels else f"slice-{k}", r.contours) for k, r in enumerate(results)]
-    write_text_atomic(path, svg_document(groups))
+    write_text_atomic(path, svg_document(groups, units=units))
 
 
-def write_dxf(path: str | Path, results: Sequence[FitResult]) -> None:
+def write_dxf(path: str | Path, results: Sequence[FitResult], units: str = "unitless") -> None:
     import ezdxf
 
-    doc = ezdxf.new("R2010")
+    doc = ezdxf.new("R2010", units=unit_of(units).dxf)
     msp = doc.modelspace()
     for r in results:
         for c in r.contours:

@@ -1,10 +1,5 @@
-"""The ground floor: every record that crosses a module, the guarantee's slack and the defaults.
-
-Data flows one way: points -> `Ordering` (of `Chain` and `OrderedContour`) -> `Pyramid` (the
-wavelet levels) -> `Reconstruction` -> `Contour` -> `FitResult` -> writers; for 3D clouds,
-`LayerJob` (a `LayerSpec` and its band of points) -> `Layer` records in a `SliceResult`.
-Nothing here imports another wavepoly module.
-"""
+"""Records of the planar pipeline: ordering, wavelet levels, reconstruction, contours, fits;
+the guarantee's slack and the defaults."""
 
 from __future__ import annotations
 
@@ -76,7 +71,7 @@ class Ordering:
     noise: float = 0.0
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class Contour:
     """A polygon (closed) or polyline (open) in the output.
 
@@ -101,6 +96,21 @@ class Contour:
             return 0.0
         x, y = self.vertices[:, 0], self.vertices[:, 1]
         return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+
+    @property
+    def __geo_interface__(self) -> dict:
+        """A GeoJSON Polygon (closed) or LineString (open), for shapely, GeoPandas..."""
+        if self.closed:
+            return {"type": "Polygon", "coordinates": [_ring(self.vertices)]}
+        return {"type": "LineString", "coordinates": self.vertices.tolist()}
+
+    def to_shapely(self):
+        """The contour as a shapely Polygon or LineString."""
+        return _shape(self)
+
+    def __repr__(self) -> str:
+        kind = "closed" if self.closed else "open"
+        return f"Contour({kind}, {self.n_vertices} vertices, max error {self.max_error:.4g})"
 
 
 @dataclass(frozen=True)
@@ -153,7 +163,7 @@ class ContourReport:
     mean_error: float
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class FitResult:
     """Result of `wavepoly.fit` over one slice of 2D points.
 
@@ -186,6 +196,54 @@ class FitResult:
     @property
     def n_vertices(self) -> int:
         return sum(c.n_vertices for c in self.contours)
+
+    @property
+    def __geo_interface__(self) -> dict:
+        """GeoJSON geometry: a MultiPolygon of the outers with their holes, a MultiLineString
+        of the open contours, or a GeometryCollection of both."""
+        parents = self.parents or [-1] * len(self.contours)
+        depth = nesting_depth(parents)
+        polygons = [[_ring(c.vertices), *(_ring(h.vertices) for j, h in enumerate(self.contours)
+                                          if parents[j] == i and h.closed)]
+                    for i, c in enumerate(self.contours) if c.closed and depth[i] % 2 == 0]
+        lines = [c.vertices.tolist() for c in self.contours if not c.closed]
+        parts = ([{"type": "MultiPolygon", "coordinates": polygons}] if polygons else []) + (
+            [{"type": "MultiLineString", "coordinates": lines}] if lines else [])
+        return parts[0] if len(parts) == 1 else {"type": "GeometryCollection",
+                                                 "geometries": parts}
+
+    def to_shapely(self):
+        """The contours as one shapely geometry (see ``__geo_interface__``)."""
+        return _shape(self)
+
+    def __repr__(self) -> str:
+        validity = f"; {self.validity}" if self.validity is not None else ""
+        return (f"FitResult({len(self.contours)} contours{validity}; {self.n_vertices} "
+                f"vertices; max error {self.max_error:.4g} (tolerance {self.tolerance:.4g}); "
+                f"{len(self.outliers)} outliers of {self.n_points} points)")
+
+
+def nesting_depth(parents: list[int]) -> list[int]:
+    """Number of enclosing closed contours of each contour (even: outer or island, odd: hole)."""
+    depth = []
+    for i in range(len(parents)):
+        d, p = 0, parents[i]
+        while p >= 0:
+            d, p = d + 1, parents[p]
+        depth.append(d)
+    return depth
+
+
+def _ring(vertices: FloatArray) -> list[list[float]]:
+    """A closed ring's coordinates, the first repeated at the end (GeoJSON)."""
+    pts = vertices.tolist()
+    return pts + pts[:1]
+
+
+def _shape(obj):
+    import shapely.geometry
+
+    return shapely.geometry.shape(obj.__geo_interface__)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -269,142 +327,7 @@ class Reconstruction:
         return out
 
 
-# ---------------------------------------------------------------------------------------------
-# slicing: layers of a 3D cloud
-
-
-@dataclass(frozen=True)
-class SurfaceSamples:
-    """A cloud in plane coordinates with what is known of its surface at each point.
-
-    uvh: (N, 3) plane coordinates and height, sorted by height; normals: (N, 3) unit normals
-    of the local tangent planes; low, high: height range of each point's neighbourhood;
-    radius: the neighbourhood's radius; flatness: its smallest principal variance over the
-    middle one (0 on a plane, larger across an edge).
-    """
-
-    uvh: FloatArray
-    normals: FloatArray
-    low: FloatArray
-    high: FloatArray
-    radius: FloatArray
-    flatness: FloatArray
-
-
-@dataclass(frozen=True)
-class LayerSpec:
-    """A layer's parameters: all that its fit needs besides its band of the cloud (small, it
-    travels to a worker ahead of the points).
-
-    bottom, thickness: the slab [bottom, bottom + thickness) that the layer stands for;
-    low, high: the heights that the band of points covers (-inf / inf where it reaches the
-    cloud's ends): a point's neighbourhood is complete when it lies within them;
-    section_band: only slab points within ``section_band / 2`` of the mid-plane give section
-    points (None: the whole slab); max_gap: the widest gap between open pieces to bridge.
-    """
-
-    bottom: float
-    thickness: float
-    low: float
-    high: float
-    tolerance: float
-    relative_tolerance: float | None
-    section_band: float | None = None
-    max_gap: float = 0.0
-
-    @property
-    def z(self) -> float:
-        """Height of the layer's mid-plane."""
-        return self.bottom + 0.5 * self.thickness
-
-
-@dataclass(frozen=True)
-class LayerJob:
-    """One layer's fit: its parameters and its band of the cloud, (u, v, height) sorted by
-    height, that holds the slab and the points around it (it travels to a worker process)."""
-
-    spec: LayerSpec
-    points: FloatArray
-
-
-@dataclass(frozen=True)
-class ErrorJob:
-    """One layer's staircase error: its slab's points (u, v, height) and the contours of the
-    layer and of its neighbours (None: no layer there)."""
-
-    slab: FloatArray
-    bottom: float
-    top: float
-    own: list[Contour]
-    below: list[Contour] | None
-    above: list[Contour] | None
-
-
-@dataclass(frozen=True)
-class TileSummary:
-    """One tile of a cloud: its file, point count and height range along the slicing axis."""
-
-    path: str
-    count: int
-    low: float
-    high: float
-
-
-@dataclass(frozen=True)
-class Layer:
-    """One layer of the model.
-
-    bottom, thickness: the slab [bottom, bottom + thickness) along the axis that it stands for.
-    band: (low, high) heights of the points whose section points were fitted.
-    fit: the layer's fit of its mid-plane section, in plane coordinates (see
-        `SliceResult.basis`), with ``fit.z`` the mid-plane height.
-    slab_points: cloud points in the slab; model_error: the largest distance of a slab point
-        to the surface of the stacked layers, the staircase error (inf when the layer has
-        points and no contour).
-    """
-
-    bottom: float
-    thickness: float
-    band: tuple[float, float]
-    fit: FitResult
-    slab_points: int
-    model_error: float
-
-    @property
-    def z(self) -> float:
-        """Height of the layer's mid-plane."""
-        return self.bottom + 0.5 * self.thickness
-
-    @property
-    def top(self) -> float:
-        return self.bottom + self.thickness
-
-
-@dataclass(frozen=True)
-class SliceResult:
-    """Layers bottom to top. ``basis`` rows are (e1, e2, axis): a point p has plane coordinates
-    (p . e1, p . e2) and height p . axis."""
-
-    layers: list[Layer]
-    basis: FloatArray
-    tolerance: float
-    adaptive: bool
-    n_points: int
-    timings: dict[str, float] = field(default_factory=dict)
-    notes: tuple[str, ...] = ()
-    engine: dict = field(default_factory=dict)  # where the layers were fitted (the report)
-
-    @property
-    def model_error(self) -> float:
-        """Largest distance of a cloud point to the surface of the stacked layers, the 3D
-        staircase error (`wavepoly.staircase`)."""
-        errs = [la.model_error for la in self.layers if la.slab_points]
-        return max(errs) if errs else 0.0
-
-    @property
-    def n_vertices(self) -> int:
-        return sum(la.fit.n_vertices for la in self.layers)
-
-    def to_world(self, xy: FloatArray, height: float) -> FloatArray:
-        """3D points of plane coordinates ``xy`` at ``height`` along the axis."""
-        return xy @ self.basis[:2] + height * self.basis[2]
+__all__ = ["Chain", "Contour", "ContourReport", "DEFAULT_RELATIVE_TOLERANCE", "FitResult",
+           "FloatArray", "IntArray", "LevelErrors", "Msc", "OrderedContour", "Ordering",
+           "Problem", "Pyramid", "Reconstruction", "SLACK", "Validity", "nesting_depth",
+           "within"]
