@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import resource
 import time
 from collections.abc import Callable
@@ -9,7 +10,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 DOCS = ROOT / "docs"
-SHARED = ROOT.parent / "shared" / "data"
+#: The shared scans: ``WAVEPOLY_SHARED_DATA`` when set, else ``../shared/data``.
+SHARED = Path(os.environ.get("WAVEPOLY_SHARED_DATA") or ROOT.parent / "shared" / "data")
 
 
 def best_time(fn: Callable[[], object], repeat: int = 3) -> tuple[float, object]:

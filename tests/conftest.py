@@ -16,13 +16,16 @@ settings.register_profile("ci", derandomize=True, deadline=None, print_blob=True
 settings.register_profile("explore", derandomize=False, deadline=None, print_blob=True)
 settings.load_profile(os.environ.get("WAVEPOLY_HYPOTHESIS", "ci"))
 
-SHARED = Path(__file__).resolve().parents[1].parent / "shared" / "data"
+#: The shared scans: ``WAVEPOLY_SHARED_DATA`` when set, else ``../shared/data`` beside the repo.
+SHARED = Path(os.environ.get("WAVEPOLY_SHARED_DATA") or
+              Path(__file__).resolve().parents[1].parent / "shared" / "data")
 
 
 @pytest.fixture(scope="session")
 def shared_data() -> Path:
     if not SHARED.is_dir():
-        pytest.skip(f"shared data not found at {SHARED} (only on the developers' machines)")
+        pytest.skip(f"shared data not found at {SHARED} (only on the developers' machines; "
+                    "set WAVEPOLY_SHARED_DATA to point at it)")
     return SHARED
 
 

@@ -184,3 +184,21 @@ def test_a_read_only_output_is_replaced_only_with_force(glyph_file, tmp_path):
     out = run("fit", glyph_file, "-t", "0.08", "-o", target, "--force")
     assert out.returncode == 0, out.stderr
     assert json.loads(target.read_text())["type"] == "FeatureCollection"
+
+
+def test_order_writes_its_contours_and_info_measures_a_cloud_in_3d(glyph_file, tmp_path):
+    import csv
+
+    out = run("order", glyph_file, "-r", "0.08", "-o", tmp_path / "ordered.csv")
+    assert out.returncode == 0, out.stderr
+    with open(tmp_path / "ordered.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    assert {r["contour"] for r in rows} == {"0", "1"}  # the O and its hole
+    assert all(r["closed"] == "1" for r in rows)
+    assert len(rows) > 50
+    rng = np.random.default_rng(2)
+    t, h = rng.uniform(0, 2 * np.pi, 20000), rng.uniform(0, 22, 20000)
+    np.save(tmp_path / "part.npy", np.column_stack([5 * np.cos(t), 5 * np.sin(t), h]))
+    info = run("info", tmp_path / "part.npy")
+    spacing = float(info.stdout.split("spacing:")[1].split()[0])
+    assert "in 3D" in info.stdout and spacing > 0.05  # not the x-y projection's 0.0005

@@ -66,3 +66,16 @@ def test_cli_and_demo_use_public_names_only():
             if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name):
                 if node.value.id == "wavepoly":
                     assert not node.attr.startswith("_") or node.attr == "__version__", name
+
+
+def test_the_shared_data_can_be_pointed_at(tmp_path):
+    """WAVEPOLY_SHARED_DATA moves the tests' (and benchmarks') shared scans."""
+    import os
+    import subprocess
+    import sys
+
+    root = Path(__file__).resolve().parents[1]
+    code = "import tests.conftest as c, benchmarks.common as b; print(c.SHARED); print(b.SHARED)"
+    out = subprocess.run([sys.executable, "-c", code], cwd=root, capture_output=True, text=True,
+                         env={**os.environ, "WAVEPOLY_SHARED_DATA": str(tmp_path)}, check=True)
+    assert out.stdout.split() == [str(tmp_path)] * 2

@@ -9,6 +9,7 @@ import xml.etree.ElementTree as ET
 import numpy as np
 import pytest
 
+import wavepoly
 from wavepoly import as_planar
 from wavepoly.errors import DataError
 from wavepoly.io import read_points, write_polygons
@@ -98,7 +99,7 @@ def test_npy_ply_obj_off_pcd_las(tmp_path):
                                      pts.astype("<f4").tobytes())
     np.testing.assert_allclose(read_points(tmp_path / "b.pcd"), pts, atol=1e-6)
     (tmp_path / "c.pcd").write_bytes((header + "DATA binary_compressed\n").encode() + b"\0" * 8)
-    with pytest.raises(DataError, match="binary_compressed"):
+    with pytest.raises(DataError, match="the PCD header's fields need"):
         read_points(tmp_path / "c.pcd")
 
     import laspy
@@ -351,3 +352,72 @@ def test_the_fast_table_reader_agrees_with_the_line_parser(tmp_path, text, monke
     fast = read_points(path)
     monkeypatch.setattr(readers, "_read_table_fast", lambda *args: None)
     np.testing.assert_array_equal(fast, read_points(path))
+
+
+def depth_image(h=60, w=80):
+    """An organized cloud as a depth camera writes it: a grid of pixels, every 7th without a
+    return (NaN), float32, quantized like a sensor (so that LZF has something to compress)."""
+    yy, xx = np.mgrid[0:h, 0:w]
+    z = np.round(1.5 + 0.2 * np.sin(xx / 9.0), 3)
+    pts = np.column_stack([xx.ravel() * 0.01, yy.ravel() * 0.01, z.ravel()]).astype(np.float32)
+    pts[::7] = np.nan
+    return pts
+
+
+def test_binary_compressed_pcd_of_a_known_writer_is_read_and_its_holes_dropped(tmp_path):
+    pypcd4 = pytest.importorskip("pypcd4")
+    pts = depth_image()
+    cloud = pypcd4.PointCloud.from_xyz_points(pts)
+    cloud.metadata.width, cloud.metadata.height = 80, 60
+    for encoding in (pypcd4.Encoding.BINARY_COMPRESSED, pypcd4.Encoding.BINARY,
+                     pypcd4.Encoding.ASCII):
+        path = tmp_path / f"depth-{encoding.value}.pcd"
+        cloud.save(path, encoding)
+        with pytest.warns(wavepoly.ReadNote, match="686 of 4800 points have no coordinates"):
+            got = read_points(path)
+        keep = ~np.isnan(pts).any(axis=1)
+        np.testing.assert_allclose(got, pts[keep], rtol=1e-6)
+    assert b"DATA binary_compressed" in (tmp_path / "depth-binary_compressed.pcd").read_bytes()
+
+
+def test_corrupt_lzf_data_is_an_error_naming_the_file(tmp_path):
+    pypcd4 = pytest.importorskip("pypcd4")
+    cloud = pypcd4.PointCloud.from_xyz_points(depth_image())
+    path = tmp_path / "bad.pcd"
+    cloud.save(path, pypcd4.Encoding.BINARY_COMPRESSED)
+    raw = bytearray(path.read_bytes())
+    raw[-40:] = b"\xff" * 40  # back references before the start of the output
+    path.write_bytes(bytes(raw))
+    with pytest.raises(DataError, match="bad.pcd: the compressed data"):
+        read_points(path)
+
+
+def test_lzf_decoder_matches_liblzf():
+    lzf = pytest.importorskip("lzf")
+    from wavepoly.io.lzf import decompress
+
+    rng = np.random.default_rng(3)
+    for size in (1, 31, 32, 300, 70_000):
+        data = np.repeat(rng.integers(0, 6, size // 3 + 1, dtype=np.uint8), 3)[:size].tobytes()
+        packed = lzf.compress(data) or None
+        if packed is None:  # liblzf gives up when the output would not be smaller
+            continue
+        assert decompress(packed, len(data)) == data
+
+
+def test_columns_choose_on_every_reader_that_has_columns_and_are_refused_elsewhere(tmp_path):
+    from plyfile import PlyData, PlyElement
+
+    rng = np.random.default_rng(8)
+    table = rng.normal(size=(50, 4))
+    vertex = np.empty(50, dtype=[("x", "<f8"), ("y", "<f8"), ("z", "<f8"), ("w", "<f8")])
+    for k, name in enumerate("xyzw"):
+        vertex[name] = table[:, k]
+    PlyData([PlyElement.describe(vertex, "vertex")]).write(str(tmp_path / "a.ply"))
+    np.testing.assert_array_equal(read_points(tmp_path / "a.ply", columns=(1, 3)),
+                                  table[:, [1, 3]])
+    with pytest.raises(DataError, match="asked for column 7 but the file has 4 vertex"):
+        read_points(tmp_path / "a.ply", columns=(0, 7))
+    (tmp_path / "a.obj").write_text("".join(f"v {x} {y} {z}\n" for x, y, z, _ in table))
+    with pytest.raises(DataError, match="--columns does not apply to .obj"):
+        read_points(tmp_path / "a.obj", columns=(0, 1))

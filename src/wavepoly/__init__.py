@@ -15,7 +15,7 @@ True
 
 from importlib.metadata import PackageNotFoundError, version
 
-from .errors import DataError, EngineError, ParameterError, WavepolyError
+from .errors import DataError, EngineError, ParameterError, ReadNote, WavepolyError
 from .fit import fit
 from .io import (
     LAYER_FORMATS,
@@ -29,6 +29,7 @@ from .io import (
     slice_report,
     slice_summary,
     write_layers,
+    write_ordering,
     write_points,
     write_polygons,
     write_report,
@@ -55,11 +56,12 @@ try:
 except PackageNotFoundError:  # pragma: no cover - running from a source tree
     __version__ = "0.0.0"
 
-__all__ = ["__version__", "UNITS", "as_planar", "Contour", "ContourReport", "curve_spacing",
+__all__ = ["__version__", "as_planar", "Contour", "ContourReport", "curve_spacing",
            "dask_available", "DataError", "DEFAULT_RELATIVE_TOLERANCE", "detect_format",
            "EngineError", "expand_sources", "fit", "fit_report", "fit_summary", "FitResult",
            "Layer", "LAYER_FORMATS", "median_spacing", "order_points", "OrderedContour",
            "Ordering", "ordering_summary", "ParameterError", "POLYGON_FORMATS", "read_mesh",
-           "read_points", "scheduler_from_environment", "slice_cloud", "slice_mesh",
-           "slice_report", "slice_summary", "slice_tiles", "SliceResult", "validate_points",
-           "WavepolyError", "write_layers", "write_points", "write_polygons", "write_report"]
+           "read_points", "ReadNote", "scheduler_from_environment", "slice_cloud", "slice_mesh",
+           "slice_report", "slice_summary", "slice_tiles", "SliceResult", "UNITS",
+           "validate_points", "WavepolyError", "write_layers", "write_ordering", "write_points",
+           "write_polygons", "write_report"]

@@ -10,6 +10,7 @@ from __future__ import annotations
 import os
 import signal
 import sys
+import warnings
 from pathlib import Path
 from typing import Annotated
 
@@ -31,7 +32,9 @@ FormatOpt = Annotated[str | None, typer.Option("--format", "-f",
                                                help="Input format, overriding the extension.")]
 ForceOpt = Annotated[bool, typer.Option("--force", help="Replace read-only outputs.")]
 ColumnsOpt = Annotated[str | None, typer.Option(
-    "--columns", help="0-based coordinate columns of text files, e.g. '0,1' or '1,2,3'.")]
+    "--columns", help="0-based coordinate columns, e.g. '0,1' or '1,2,3': of text and .npy "
+                      "tables, PLY vertex properties, LAS dimensions (x y z first) or PCD "
+                      "fields.")]
 
 
 def _version(value: bool) -> None:
@@ -59,11 +62,21 @@ def _columns(text: str | None) -> tuple[int, ...] | None:
 
 
 def _read(path: Path, fmt: str | None, columns: str | None) -> np.ndarray:
+    """The points of ``path`` ('-': standard input), the readers' notes said."""
+    source: object = path
     if str(path) == STDIO:
         if not fmt:
             raise ParameterError("reading standard input ('-') needs --format (xy, xyz, ply...)")
-        return wavepoly.read_points(sys.stdin.buffer, format=fmt, columns=_columns(columns))
-    return wavepoly.read_points(path, fmt=fmt, columns=_columns(columns))
+        source = sys.stdin.buffer
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", wavepoly.ReadNote)
+        points = wavepoly.read_points(source, format=fmt, columns=_columns(columns))
+    for w in caught:
+        if issubclass(w.category, wavepoly.ReadNote):
+            _say(f"note: {w.message}")
+        else:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    return points
 
 
 def _say(text: str) -> None:
@@ -111,7 +124,10 @@ def info(path: Annotated[Path, typer.Argument(help="Point file.")], fmt: FormatO
     """Point count, dimensions, bounding box and a suggested tolerance."""
     pts = _read(path, fmt, columns)
     lo, hi = pts.min(axis=0), pts.max(axis=0)
-    spacing = wavepoly.median_spacing(pts[:, :2]) if len(pts) > 1 else 0.0
+    planar = pts.shape[1] == 2 or np.ptp(pts[:, 2]) <= FLAT * max(np.ptp(pts, axis=0).max(),
+                                                                 1e-300)
+    dims = pts[:, :2] if planar else pts
+    spacing = wavepoly.median_spacing(dims) if len(pts) > 1 else 0.0
     _say(f"file:       {path}")
     _say(f"format:     {fmt or wavepoly.detect_format(path)}")
     _say(f"points:     {len(pts)}")
@@ -119,8 +135,13 @@ def info(path: Annotated[Path, typer.Argument(help="Point file.")], fmt: FormatO
     axes = "xyz"[: pts.shape[1]]
     for k, a in enumerate(axes):
         _say(f"{a}:          {lo[k]:.6g} .. {hi[k]:.6g}  (extent {hi[k] - lo[k]:.6g})")
-    _say(f"spacing:    {spacing:.4g} (median nearest-neighbour distance in x, y)")
+    where = "in x, y" if planar else "in 3D: a cloud to slice"
+    _say(f"spacing:    {spacing:.4g} (median nearest-neighbour distance {where})")
     _say(f"suggested tolerance: {2 * spacing:.3g} (twice the spacing)")
+
+
+#: A third coordinate whose extent is below this fraction of the largest is a planar slice.
+FLAT = 1e-6
 
 
 @app.command()
@@ -128,10 +149,12 @@ def order(
     path: Annotated[Path, typer.Argument(help="Point file (2D, or planar 3D).")],
     radius: Annotated[float, typer.Option("--radius", "-r", help="Neighbourhood radius.")],
     plot: Annotated[Path | None, typer.Option(help="Write a figure of the ordering.")] = None,
-    seed: int = 0, fmt: FormatOpt = None, columns: ColumnsOpt = None,
+    output: Annotated[Path | None, typer.Option(
+        "--output", "-o", help="Write the ordered contours: .csv .geojson .svg")] = None,
+    seed: int = 0, fmt: FormatOpt = None, columns: ColumnsOpt = None, force: ForceOpt = False,
 ) -> None:
     """Order and thin unorganized points into contours (paper §2)."""
-    _check_outputs([path], [(plot, FIGURE_FORMATS)])
+    _check_outputs([path], [(plot, FIGURE_FORMATS), (output, ORDERED_FORMATS)], force)
     pts = wavepoly.as_planar(_read(path, fmt, columns), str(path))
     ordering = wavepoly.order_points(pts, radius, seed=seed)
     _say(wavepoly.ordering_summary(ordering, len(pts)))
@@ -139,7 +162,10 @@ def order(
         _say(f"note: {note}")
     for k, c in enumerate(ordering.contours):
         _say(f"contour {k}: {'closed' if c.closed else 'open'}, {len(c.members)} points "
-                   f"-> {len(c.points)} ordered")
+             f"-> {len(c.points)} ordered")
+    if output:
+        wavepoly.write_ordering(output, ordering)
+        _say(f"wrote {output}")
     if plot:
         from wavepoly.plot import plot_ordering, save_figure
 
@@ -227,6 +253,7 @@ def _check_outputs(inputs: list[Path], outputs: list[tuple[Path | None, tuple[st
 
 
 FIGURE_FORMATS = ("png", "svg", "pdf")
+ORDERED_FORMATS = ("csv", "geojson", "json", "svg")
 REPORT_FORMATS = ("json",)
 
 

@@ -18,3 +18,8 @@ class ParameterError(WavepolyError, ValueError):
 class EngineError(WavepolyError):
     """Where the work should run is not available (a Dask scheduler out of reach, an extra
     not installed)."""
+
+
+class ReadNote(UserWarning):
+    """A remark of a reader about the file it read (points it dropped, and why): a warning,
+    which the command line prints as a note."""

@@ -10,8 +10,9 @@ from .report import (
     slice_summary,
     write_report,
 )
-from .writers import POLYGON_FORMATS, write_points, write_polygons
+from .writers import POLYGON_FORMATS, write_ordering, write_points, write_polygons
 
-__all__ = ["FORMATS", "LAYER_FORMATS", "POLYGON_FORMATS", "detect_format", "fit_report",
-           "fit_summary", "ordering_summary", "read_mesh", "read_points", "slice_report",
-           "slice_summary", "write_layers", "write_points", "write_polygons", "write_report"]
+__all__ = ["detect_format", "fit_report", "fit_summary", "FORMATS", "LAYER_FORMATS",
+           "ordering_summary", "POLYGON_FORMATS", "read_mesh", "read_points", "slice_report",
+           "slice_summary", "write_layers", "write_ordering", "write_points", "write_polygons",
+           "write_report"]

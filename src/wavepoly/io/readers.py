@@ -17,6 +17,7 @@ import numpy as np
 from ..errors import DataError
 from ..types import FloatArray
 from ..validate import validate_points
+from .pcd import read_pcd
 from .streams import is_stream, stream_as_path
 
 TEXT_FORMATS = ("xyz", "xy", "txt", "csv", "pts", "p2d", "gtn", "xym", "asc")
@@ -291,9 +292,25 @@ def _read_ply(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndarr
         raise DataError(f"{path}: PLY file has no 'vertex' element")
     vertex = ply["vertex"].data
     names = [n for n in ("x", "y", "z") if n in vertex.dtype.names]
+    if columns is not None:  # the vertex properties in the header's order
+        names = _named_columns(list(vertex.dtype.names), columns, path, "vertex properties")
     if len(names) < 2:
         raise DataError(f"{path}: PLY vertices have no x/y properties")
     return np.column_stack([np.asarray(vertex[n], dtype=np.float64) for n in names])
+
+
+def _named_columns(names: list[str], columns: tuple[int, ...], path: Path, what: str
+                   ) -> list[str]:
+    if max(columns) >= len(names):
+        raise DataError(f"{path}: asked for column {max(columns)} but the file has "
+                        f"{len(names)} {what} ({' '.join(names)})")
+    return [names[c] for c in columns]
+
+
+def _no_columns(path: Path, fmt: str, columns: tuple[int, ...] | None, what: str) -> None:
+    """Formats without columns to choose: say so rather than ignore ``--columns``."""
+    if columns is not None:
+        raise DataError(f"{path}: --columns does not apply to .{fmt} files ({what})")
 
 
 #: Sizes of the LAS public header's fields that locate the rest, and of a VLR's header.
@@ -326,57 +343,17 @@ def _read_las(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndarr
 
     _check_las_header(path)
     las = laspy.read(str(path))
-    return np.column_stack([np.asarray(las.x), np.asarray(las.y), np.asarray(las.z)])
-
-
-_PCD_TYPES = {("F", 4): "<f4", ("F", 8): "<f8", ("I", 1): "<i1", ("I", 2): "<i2",
-              ("I", 4): "<i4", ("I", 8): "<i8", ("U", 1): "<u1", ("U", 2): "<u2",
-              ("U", 4): "<u4", ("U", 8): "<u8"}
-
-
-def _read_pcd(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndarray:
-    """Point Cloud Library's PCD (ASCII and binary); binary_compressed is refused clearly."""
-    raw = path.read_bytes()
-    header: dict[str, list[str]] = {}
-    offset = 0
-    for line in raw.split(b"\n"):
-        offset += len(line) + 1
-        text = line.decode("ascii", errors="replace").strip()
-        if not text or text.startswith("#"):
-            continue
-        key, *values = text.split()
-        header[key.upper()] = values
-        if key.upper() == "DATA":
-            break
-    else:
-        raise DataError(f"{path}: PCD header has no DATA line")
-    fields = header.get("FIELDS", [])
-    if not {"x", "y"} <= set(fields):
-        raise DataError(f"{path}: PCD has no x/y fields (fields: {' '.join(fields)})")
-    counts = [int(c) for c in header.get("COUNT", ["1"] * len(fields))]
-    npts = int(header.get("POINTS", ["0"])[0])
-    mode = header["DATA"][0].lower()
-    wanted = [f for f in ("x", "y", "z") if f in fields]
-    if mode == "ascii":
-        table = np.loadtxt(raw[offset:].decode("ascii").splitlines(), ndmin=2)
-        if "POINTS" in header and len(table) != npts:
-            raise DataError(f"{path}: the header says {npts} points but {len(table)} rows "
-                            "follow")
-        starts = np.cumsum([0, *counts[:-1]])
-        return table[:, [starts[fields.index(f)] for f in wanted]]
-    if mode == "binary":
-        dtype = np.dtype([(f, _PCD_TYPES[(t, int(s))], (c,)) if c > 1 else
-                          (f, _PCD_TYPES[(t, int(s))])
-                          for f, t, s, c in zip(fields, header["TYPE"], header["SIZE"], counts)])
-        if len(raw) - offset < npts * dtype.itemsize:
-            raise DataError(f"{path}: PCD binary data is truncated")
-        data = np.frombuffer(raw, dtype=dtype, count=npts, offset=offset)
-        return np.column_stack([data[f].astype(np.float64) for f in wanted])
-    raise DataError(f"{path}: PCD data mode '{mode}' is not supported "
-                    "(save it as ascii or binary)")
+    if columns is None:
+        return np.column_stack([np.asarray(las.x), np.asarray(las.y), np.asarray(las.z)])
+    # x, y, z scaled to coordinates, then the point format's other dimensions as stored
+    names = ["x", "y", "z", *[d for d in las.point_format.dimension_names
+                              if d not in ("X", "Y", "Z")]]
+    return np.column_stack([np.asarray(las[n], dtype=np.float64)
+                            for n in _named_columns(names, columns, path, "dimensions")])
 
 
 def _read_obj(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndarray:
+    _no_columns(path, fmt, columns, "its vertices are x y z")
     rows = []
     with _open_text(path) as fh:
         for line in fh:
@@ -388,6 +365,7 @@ def _read_obj(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndarr
 
 
 def _read_off(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndarray:
+    _no_columns(path, fmt, columns, "its vertices are x y z")
     with _open_text(path) as fh:
         lines = [ln.split("#", 1)[0].split() for ln in fh]
     lines = [ln for ln in lines if ln]
@@ -409,6 +387,7 @@ def _read_carmen(path: Path, fmt: str, columns: tuple[int, ...] | None,
     Beams span -90 deg .. +90 deg about the laser heading theta; readings at the sensor's maximum
     (the largest range found in the log) and non-positive ones are no-returns and are dropped.
     """
+    _no_columns(path, fmt, columns, "laser beams turned into points by their poses")
     ranges, poses = [], []
     with _open_text(path) as fh:
         for line in _bounded_lines(fh, path):
@@ -437,6 +416,7 @@ def _read_conf(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndar
     91 % of bun045's points within 1 mm of bun000's, against 0.3 % for R(q) p + t). Scans named
     in the file but absent are skipped with a warning; none present is an error.
     """
+    _no_columns(path, fmt, columns, "range scans of x y z, placed by their poses")
     from scipy.spatial.transform import Rotation
 
     out, missing = [], []
@@ -471,7 +451,7 @@ def _read_conf(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndar
 
 
 _READERS: dict[str, Callable[[Path, str, tuple[int, ...] | None], np.ndarray]] = {
-    "npy": _read_npy, "ply": _read_ply, "las": _read_las, "laz": _read_las, "pcd": _read_pcd,
+    "npy": _read_npy, "ply": _read_ply, "las": _read_las, "laz": _read_las, "pcd": read_pcd,
     "obj": _read_obj, "off": _read_off, "carmen": _read_carmen, "conf": _read_conf,
 }
 

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..errors import DataError
 from ..geometry import nesting_depth
-from ..types import Contour, FitResult
+from ..types import Contour, FitResult, Ordering
 from .atomic import atomic_path, write_text_atomic
 from .streams import is_stream, path_for_stream
 from .units import unit_of
@@ -174,6 +174,24 @@ def write_csv(path: str | Path, results: Sequence[FitResult]) -> None:
                     row = [cid, k, repr(float(x)), repr(float(y)), int(c.closed)]
                     w.writerow(row + ([r.z] if sliced else []))
                 cid += 1
+
+
+def write_ordering(path, ordering: Ordering, format: str | None = None) -> None:
+    """Write the ordered contours of `wavepoly.order_points` (§2): each contour's ordered
+    points as a polygon (closed) or polyline (open), in CSV, GeoJSON or SVG. They are the
+    ordering's output, not fitted polygons, so they are written without the validity check."""
+    contours = [Contour(c.points, c.closed) for c in ordering.contours]
+    fmt = (format or (None if is_stream(path) else Path(path).suffix.lstrip("."))) or ""
+    if fmt.lower() not in ("csv", "geojson", "json", "svg"):
+        raise DataError(f"{path}: ordered contours are written as .csv, .geojson or .svg")
+    result = FitResult(contours, float("nan"), float("nan"), float("nan"),
+                       np.asarray(ordering.outliers, dtype=np.intp), 0,
+                       parents=[-1] * len(contours))
+    if is_stream(path):
+        with path_for_stream(path, fmt) as tmp:
+            write_ordering(tmp, ordering, fmt)
+        return
+    {"csv": write_csv, "svg": write_svg}.get(fmt.lower(), write_geojson)(path, [result])
 
 
 def write_points(path: str | Path, points: np.ndarray, *, header: str = "") -> None:
