@@ -12,7 +12,7 @@ CGAL_HEADER := /usr/include/CGAL/Optimal_transportation_reconstruction_2.h
 $(STAMP): pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
-	$(PY) -m pip install --quiet -e ".[test,dask]"
+	$(PY) -m pip install --quiet -e ".[test,dask,gis]"
 	touch $(STAMP)
 
 demo: $(STAMP)
@@ -23,7 +23,7 @@ test: $(STAMP)
 	$(PY) -m pytest -n 2 -q
 
 bench: $(STAMP) otr2
-	$(PY) -m pip install --quiet -e ".[test,dask,bench]"
+	$(PY) -m pip install --quiet -e ".[test,dask,gis,bench]"
 	$(PY) -m benchmarks
 
 # CGAL's OTR2 peer (header-only; Debian's libcgal-dev). Installed when missing and possible;

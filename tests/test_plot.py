@@ -51,7 +51,13 @@ def test_levels_figure_labels_both_levels(tmp_path):
     ax = plot_levels(ring, pyramid.coefficients[k + 1], pyramid.coefficients[k], True,
                      (f"level {k + 1}", f"level {k}"))
     labels = [t.get_text() for t in ax.get_legend().get_texts()]
-    assert labels[0].startswith(f"level {k + 1}") and labels[1].startswith(f"level {k}")
+    assert labels[0] == "input points (300)"
+    assert labels[1].startswith(f"level {k + 1}") and labels[2].startswith(f"level {k}")
+    lines = {line.get_label(): line for line in ax.get_lines()}
+    fine, coarse = (lines[label] for label in labels[1:])
+    assert fine.get_color() != coarse.get_color()  # the two levels can be told apart
+    assert fine.get_marker() != coarse.get_marker()
+    assert ax.get_xlabel() == "x" and ax.child_axes  # and the zoomed inset where they differ
     save_figure(ax, tmp_path / "levels.svg")
     assert (tmp_path / "levels.svg").read_text().lstrip().startswith("<?xml")
 
@@ -75,3 +81,23 @@ def test_a_failed_save_leaves_no_file(tmp_path):
     except ValueError:
         pass
     assert list(tmp_path.iterdir()) == []
+
+
+def test_outliers_are_light_and_capped_and_axes_carry_their_units():
+    from wavepoly.plot import MAX_OUTLIER_DOTS, plot_fit
+
+    rng = np.random.default_rng(1)
+    t = rng.uniform(0, 2 * np.pi, 4000)
+    ring = np.column_stack([np.cos(t), np.sin(t)]) + rng.normal(scale=0.002, size=(4000, 2))
+    noise = rng.uniform(-3, 3, (5000, 2))
+    pts = np.vstack([ring, noise])
+    from dataclasses import replace
+
+    import wavepoly
+
+    res = replace(wavepoly.fit(ring, 0.02), outliers=np.arange(4000, 9000), n_points=9000)
+    ax = plot_fit(pts, res, units="mm")
+    assert ax.get_xlabel() == "x (mm)" and ax.get_ylabel() == "y (mm)"
+    [dots] = [ln for ln in ax.get_lines() if ln.get_label().startswith("outliers")]
+    assert len(dots.get_xdata()) == MAX_OUTLIER_DOTS
+    assert f"{MAX_OUTLIER_DOTS} shown" in dots.get_label() and dots.get_alpha() < 1

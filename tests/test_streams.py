@@ -108,3 +108,19 @@ def test_stdio_needs_its_formats():
     assert out.returncode == 2
     out = _wavepoly("fit", "-", "--format", "xy", "-t", "0.08", "-o", "-", stdin=b"0 0\n")
     assert out.returncode == 2 and b"--output-format" in out.stderr
+
+
+def test_georeferenced_results_go_to_a_geopackage_in_their_crs(points, tmp_path):
+    raw = pytest.importorskip("pyogrio.raw")
+    shifted = points + [500_000.0, 5_700_000.0]  # UTM-like coordinates
+    result = wavepoly.fit(shifted, 0.08)
+    wavepoly.write_polygons(tmp_path / "b.gpkg", result, crs="EPSG:25832")
+    meta, _, wkb, fields = raw.read(tmp_path / "b.gpkg")
+    assert meta["crs"] == "EPSG:25832" and [p.name for p in tmp_path.iterdir()] == ["b.gpkg"]
+    shapes = shapely.from_wkb(wkb)
+    assert all(s.is_valid for s in shapes)
+    assert abs(sum(s.area for s in shapes) - result.to_shapely().area) < 1e-6
+    with pytest.raises(ParameterError, match="GeoPackage"):
+        wavepoly.write_polygons(tmp_path / "b.geojson", result, crs="EPSG:25832")
+    with pytest.raises(ParameterError, match="EPSG:NNNN"):
+        wavepoly.write_polygons(tmp_path / "c.gpkg", result, crs="UTM 32")

@@ -19,6 +19,7 @@ import typer
 
 import wavepoly
 from wavepoly import ParameterError, WavepolyError
+from wavepoly.console import BIG_FILE, Progress, Reading
 
 app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
                   help="Concise polygons within a guaranteed tolerance from scanned points "
@@ -68,7 +69,7 @@ def _read(path: Path, fmt: str | None, columns: str | None) -> np.ndarray:
         if not fmt:
             raise ParameterError("reading standard input ('-') needs --format (xy, xyz, ply...)")
         source = sys.stdin.buffer
-    with warnings.catch_warnings(record=True) as caught:
+    with warnings.catch_warnings(record=True) as caught, Reading(path):
         warnings.simplefilter("always", wavepoly.ReadNote)
         points = wavepoly.read_points(source, format=fmt, columns=_columns(columns))
     for w in caught:
@@ -114,6 +115,9 @@ def _check_units(units: str) -> None:
 
 OutputFormatOpt = Annotated[str | None, typer.Option(
     "--output-format", help="Format of '-o -' (standard output): geojson, svg, csv...")]
+CrsOpt = Annotated[str | None, typer.Option(
+    "--crs", help="Coordinate reference system of georeferenced points (EPSG:NNNN), written "
+                  "to a .gpkg output (the gis extra).")]
 UnitsOpt = Annotated[str, typer.Option(
     help="Length unit of the coordinates for DXF and SVG: mm, cm, m, in or unitless.")]
 
@@ -187,7 +191,7 @@ def fit_command(
     plot: Annotated[Path | None, typer.Option(help="Write a figure of the fit (PNG).")] = None,
     report: Annotated[Path | None, typer.Option(help="Write a JSON report.")] = None,
     seed: int = 0, fmt: FormatOpt = None, columns: ColumnsOpt = None, force: ForceOpt = False,
-    output_format: OutputFormatOpt = None, units: UnitsOpt = "unitless",
+    output_format: OutputFormatOpt = None, units: UnitsOpt = "unitless", crs: CrsOpt = None,
 ) -> None:
     """Fit concise polygons within the tolerance (ordering, wavelets, reconstruction).
 
@@ -200,7 +204,7 @@ def fit_command(
     rel = _relative_tolerance(relative_tolerance)
     pts = wavepoly.validate_points(wavepoly.as_planar(_read(path, fmt, columns), str(path)),
                                    source=str(path), min_points=3)
-    with _progress("fitting contours") as progress:
+    with Progress("fitting contours") as progress:
         result = wavepoly.fit(pts, tolerance, relative_tolerance=rel, radius=radius, seed=seed,
                               progress=progress)
     doc = wavepoly.fit_report(result, str(path)) if report else None
@@ -210,7 +214,7 @@ def fit_command(
 
         figure = plot_fit(pts, result)
     written = _write(output, out_fmt, wavepoly.POLYGON_FORMATS, lambda target, f:
-                     wavepoly.write_polygons(target, result, f, units=units))
+                     wavepoly.write_polygons(target, result, f, units=units, crs=crs))
     for line in wavepoly.fit_summary(result):
         _say(line)
     _say(f"wrote {written}")
@@ -268,32 +272,6 @@ def _relative_tolerance(text: str) -> float | None:
                              f"got {text!r}") from None
 
 
-class _progress:
-    """A rich progress bar on a terminal for long work; silent otherwise."""
-
-    def __init__(self, label: str):
-        self.label = label
-        self.bar = None
-        self.task = None
-
-    def __enter__(self):
-        if not sys.stderr.isatty():
-            return None
-        from rich.progress import Progress
-
-        self.bar = Progress(transient=True)
-        self.bar.start()
-        self.task = self.bar.add_task(self.label, total=None)
-        return self.update
-
-    def update(self, done: int, total: int) -> None:
-        self.bar.update(self.task, completed=done, total=total)
-
-    def __exit__(self, *exc) -> None:
-        if self.bar is not None:
-            self.bar.stop()
-
-
 @app.command(name="slice")
 def slice_command(
     paths: Annotated[list[Path], typer.Argument(
@@ -324,7 +302,7 @@ def slice_command(
     units: Annotated[str, typer.Option(
         help="Length unit of the coordinates: mm, cm, m, in, unitless (.cli $$UNITS, SVG "
              "size), or millimetres per unit as a number.")] = "unitless",
-    output_format: OutputFormatOpt = None,
+    output_format: OutputFormatOpt = None, crs: CrsOpt = None,
     plot: Annotated[Path | None, typer.Option(help="Write figures (PNG): the 3D layer model, "
                                                    "and a contact sheet next to it.")] = None,
     report: Annotated[Path | None, typer.Option(help="Write a JSON report.")] = None,
@@ -358,14 +336,19 @@ def slice_command(
     elif adaptive:
         pts = wavepoly.validate_points(_read(sources[0], fmt, columns), source=str(sources[0]),
                                        min_points=3)
-        with _progress("fitting layers") as progress:
+        with Progress("fitting layers") as progress:
             result = wavepoly.slice_cloud(pts, tolerance, axis=direction, adaptive=True,
                                           min_layer=min_layer, max_layer=max_layer, band=band,
                                           progress=progress)
     else:
         if not scheduler and workers is not None and wavepoly.dask_available():
             scheduler = "local"
-        with _progress("fitting layers") as progress:
+        size = sum(p.stat().st_size for p in sources if p.is_file())
+        if size >= BIG_FILE:
+            where = f"on {scheduler}" if scheduler else "here"
+            typer.echo(f"reading and planning {len(sources)} file(s) ({size / 2**20:.0f} MB) "
+                       f"{where}", err=True)
+        with Progress("fitting layers") as progress:
             result = wavepoly.slice_tiles(sources, tolerance, axis=direction,
                                           layer_thickness=layer, band=band,
                                           scheduler=scheduler, workers=workers, fmt=fmt,
@@ -379,7 +362,7 @@ def slice_command(
         figures = (plot_layer_model(result), plot_contact_sheet(result))
     written = _write(output, out_fmt, wavepoly.LAYER_FORMATS, lambda target, f:
                      wavepoly.write_layers(target, result, f, units=layer_units,
-                                           separate=separate_bodies))
+                                           separate=separate_bodies, crs=crs))
     _say(wavepoly.slice_summary(result))
     for note in result.notes:
         _say(f"note: {note}")

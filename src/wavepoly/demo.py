@@ -50,11 +50,11 @@ def run_demo(out: Path, echo: Callable[[str], None] = print) -> None:
          f"contours, max error {result.max_error:.4f} mm <= {DEMO_TOLERANCE} mm, "
          f"{len(result.outliers)} outliers, {elapsed:.2f} s")
     for name in ("polygons.svg", "polygons.geojson", "polygons.dxf"):
-        wavepoly.write_polygons(out / name, result)
+        wavepoly.write_polygons(out / name, result, units="mm")
     wavepoly.write_report(out / "report.json", wavepoly.fit_report(result, "demo"))
-    save_figure(plot_fit(pts, result), out / "fit.png")
+    save_figure(plot_fit(pts, result, units="mm"), out / "fit.png")
     ordering = wavepoly.order_points(pts, DEMO_TOLERANCE)
-    save_figure(plot_ordering(pts, ordering), out / "ordering.png")
+    save_figure(plot_ordering(pts, ordering, units="mm"), out / "ordering.png")
     _level_figures(pts, ordering, out)
     echo(f"wrote {out}/: input-points.xy polygons.svg polygons.geojson polygons.dxf "
          "report.json fit.png ordering.png levels.png mscs.png")
@@ -68,11 +68,12 @@ def _level_figures(pts: np.ndarray, ordering: wavepoly.Ordering, out: Path) -> N
     k = pyramid.coarsest
     title = f"decomposition: level {k + 1} and level {k} (paper Fig. 2)"
     save_figure(plot_levels(members, pyramid.coefficients[k + 1], pyramid.coefficients[k],
-                            contour.closed, (f"level {k + 1}", f"level {k}"), title=title),
+                            contour.closed, (f"level {k + 1}", f"level {k}"), title=title,
+                            units="mm"),
                 out / "levels.png")
     rec = reconstruct_contour(pyramid, contour.points, members, DEMO_TOLERANCE)
     runs: dict[int, list] = {}
     for m in rec.mscs:
         runs.setdefault(m.level, []).append(m.points)
-    save_figure(plot_mscs(members, runs, contour.closed,
+    save_figure(plot_mscs(members, runs, contour.closed, units="mm",
                           title="MSCs per level (paper Fig. 3-4)"), out / "mscs.png")

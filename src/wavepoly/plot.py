@@ -20,15 +20,44 @@ from .io.atomic import atomic_path
 from .types import FitResult, FloatArray, Ordering, SliceResult
 
 _COLOURS = matplotlib.colormaps["tab10"].colors
+#: Outliers beyond this count are drawn as an even sample of them (the legend says so): a laser
+#: map's thousands of stray returns would otherwise hide the walls.
+MAX_OUTLIER_DOTS = 1500
+#: What "MSC" means, for the figures that show them (§4).
+MSC_CAPTION = ("MSC: multi-storable coefficients (eq. 8-10), a run of consecutive control "
+               "points of one wavelet level whose curve keeps all its points within the "
+               "tolerance; runs are kept from coarse to fine until every point is covered.")
 
 
-def _axes(ax=None, title: str | None = None):
+def _axes(ax=None, title: str | None = None, units: str | None = None):
     if ax is None:
         ax = Figure(figsize=(8, 8)).add_subplot()
     ax.set_aspect("equal")
     if title:
         ax.set_title(title, fontsize=10)
+    unit = f" ({units})" if units and units != "unitless" else ""
+    ax.set_xlabel(f"x{unit}", fontsize=9)
+    ax.set_ylabel(f"y{unit}", fontsize=9)
     return ax
+
+
+def _input_points(ax, points: FloatArray) -> None:
+    ax.plot(points[:, 0], points[:, 1], ".", ms=1, color="0.75", zorder=1,
+            label=f"input points ({len(points)})")
+
+
+def _outliers(ax, points: FloatArray, outliers) -> None:
+    """Outliers small and light, at most `MAX_OUTLIER_DOTS` of them (an even sample)."""
+    if not len(outliers):
+        return
+    shown = np.asarray(outliers)
+    label = f"outliers ({len(shown)})"
+    if len(shown) > MAX_OUTLIER_DOTS:
+        shown = shown[np.linspace(0, len(shown) - 1, MAX_OUTLIER_DOTS).astype(int)]
+        label = f"outliers ({len(outliers)}, {MAX_OUTLIER_DOTS} shown)"
+    out = points[shown]
+    ax.plot(out[:, 0], out[:, 1], ".", ms=2, color="tab:red", alpha=0.45, zorder=4,
+            label=label)
 
 
 def _closed(xy: FloatArray, closed: bool) -> FloatArray:
@@ -37,71 +66,111 @@ def _closed(xy: FloatArray, closed: bool) -> FloatArray:
 
 def _contours_over_points(ax, points: FloatArray, polylines: list[tuple[FloatArray, bool]],
                           lw: float, marker: dict) -> None:
-    """Raw points in grey, then each polyline in its own colour with its points marked."""
-    ax.plot(points[:, 0], points[:, 1], ".", ms=1, color="0.75", zorder=1)
+    """Raw points in grey, then each polyline in its own colour with its points marked (the
+    marker's ``label`` names them in the legend, once)."""
+    _input_points(ax, points)
+    label = marker.pop("label", None)
     for k, (xy, closed) in enumerate(polylines):
         colour = _COLOURS[k % len(_COLOURS)]
         line = _closed(xy, closed)
         ax.plot(line[:, 0], line[:, 1], "-", lw=lw, color=colour, zorder=2)
-        ax.plot(xy[:, 0], xy[:, 1], linestyle="none", color=colour, zorder=3, **marker)
+        ax.plot(xy[:, 0], xy[:, 1], linestyle="none", color=colour, zorder=3,
+                label=label if k == 0 else None, **marker)
 
 
-def plot_ordering(points: FloatArray, ordering: Ordering, ax=None, title: str | None = None):
-    """Fig. 1: raw points in grey, each ordered contour in its own colour, outliers in black."""
+def plot_ordering(points: FloatArray, ordering: Ordering, ax=None, title: str | None = None,
+                  units: str | None = None):
+    """Fig. 1: raw points in grey, each ordered contour in its own colour (its ordered points
+    marked, the ends of open ones crossed), outliers small and light."""
     ax = _axes(ax, title or f"{len(points)} points -> {len(ordering.contours)} contours, "
-               f"{sum(len(c.points) for c in ordering.contours)} ordered points")
+               f"{sum(len(c.points) for c in ordering.contours)} ordered points", units)
     _contours_over_points(ax, points, [(c.points, c.closed) for c in ordering.contours],
-                          lw=0.8, marker={"marker": ".", "ms": 2.5})
-    for k, c in enumerate(ordering.contours):  # the ends of open contours
-        if not c.closed:
-            ax.plot(*c.points[[0, -1]].T, "x", color=_COLOURS[k % len(_COLOURS)], ms=6,
-                    zorder=4)
-    if len(ordering.outliers):
-        out = points[ordering.outliers]
-        ax.plot(out[:, 0], out[:, 1], ".", ms=3, color="k", zorder=4)
+                          lw=0.8, marker={"marker": ".", "ms": 2.5,
+                                          "label": "ordered points, one colour per contour"})
+    ends = [k for k, c in enumerate(ordering.contours) if not c.closed]
+    for j, k in enumerate(ends):  # the ends of open contours
+        ax.plot(*ordering.contours[k].points[[0, -1]].T, "x", ms=6, zorder=4,
+                color=_COLOURS[k % len(_COLOURS)], label="ends of open contours" if not j
+                else None)
+    _outliers(ax, points, ordering.outliers)
     if len(ordering.merged_walls):
-        ax.plot(*ordering.merged_walls.T, "o", mfc="none", color="m", ms=8, zorder=5)
+        ax.plot(*ordering.merged_walls.T, "o", mfc="none", color="m", ms=8, zorder=5,
+                label="walls that may be merged")
+    ax.legend(fontsize=8, loc="best", markerscale=3)
     return ax
 
 
 def plot_levels(points: FloatArray, fine: FloatArray, coarse: FloatArray, closed: bool,
                 labels: tuple[str, str] = ("level k", "level k-1"), ax=None,
-                title: str | None = None):
-    """Fig. 2: a contour's control polygon at two decomposition levels over the raw points."""
-    ax = _axes(ax, title)
-    ax.plot(points[:, 0], points[:, 1], ".", ms=1, color="0.75")
-    for xy, label, style in ((fine, labels[0], "-"), (coarse, labels[1], "--")):
-        xy2 = _closed(xy, closed)
-        ax.plot(xy2[:, 0], xy2[:, 1], style, lw=1, marker=".", ms=4,
-                label=f"{label}: {len(xy)} coefficients")
-    ax.legend(fontsize=8)
+                title: str | None = None, units: str | None = None):
+    """Fig. 2: a contour's control polygon at two decomposition levels over the raw points,
+    the finer thin in blue with dots, the coarser thick in orange with squares."""
+    ax = _axes(ax, title, units)
+    _input_points(ax, points)
+    styles = ({"color": "tab:blue", "lw": 0.8, "marker": ".", "ms": 4, "ls": "-"},
+              {"color": "tab:orange", "lw": 1.6, "marker": "s", "ms": 4, "ls": "--",
+               "mfc": "white"})
+    zoom = ax.inset_axes([1.04, 0.45, 0.55, 0.55])  # the levels apart, where the coarse turns
+    for where in (ax, zoom):
+        for xy, label, style in zip((fine, coarse), labels, styles):
+            xy2 = _closed(xy, closed)
+            where.plot(xy2[:, 0], xy2[:, 1], label=f"{label}: {len(xy)} control points",
+                       **style)
+    zoom.plot(points[:, 0], points[:, 1], ".", ms=1.5, color="0.6", zorder=0)
+    centre, half = _sharpest_turn(coarse, closed), ZOOM * float(np.ptp(points, axis=0).max())
+    zoom.set_xlim(centre[0] - half, centre[0] + half)
+    zoom.set_ylim(centre[1] - half, centre[1] + half)
+    zoom.set_aspect("equal")
+    zoom.set_xticks([])
+    zoom.set_yticks([])
+    ax.indicate_inset_zoom(zoom, edgecolor="0.3")
+    ax.legend(fontsize=8, markerscale=2, loc="upper left")
     return ax
 
 
-def plot_fit(points: FloatArray, result: FitResult, ax=None, title: str | None = None):
-    """Fig. 6: the final polygons over the raw points, vertices marked, outliers in black."""
+#: Half the width of the zoomed inset of `plot_levels`, as a fraction of the drawing's extent.
+ZOOM = 0.05
+
+
+def _sharpest_turn(xy: FloatArray, closed: bool) -> FloatArray:
+    """The vertex of a polygon where its direction turns most (where two levels differ)."""
+    if len(xy) < 3:
+        return xy.mean(axis=0)
+    d = np.diff(_closed(xy, closed), axis=0)
+    angle = np.arctan2(d[:, 1], d[:, 0])
+    turn = np.abs(np.angle(np.exp(1j * np.diff(np.append(angle, angle[:1]) if closed
+                                               else angle))))
+    return xy[(int(np.argmax(turn)) + 1) % len(xy)]
+
+
+def plot_fit(points: FloatArray, result: FitResult, ax=None, title: str | None = None,
+             units: str | None = None):
+    """Fig. 6: the final polygons over the raw points, vertices marked, outliers small and
+    light."""
     n_v = result.n_vertices
     ax = _axes(ax, title or f"{result.n_points} points -> {n_v} vertices, "
-               f"max error {result.max_error:.3g} (tolerance {result.tolerance:.3g})")
+               f"max error {result.max_error:.3g} (tolerance {result.tolerance:.3g})", units)
     _contours_over_points(ax, points, [(c.vertices, c.closed) for c in result.contours],
-                          lw=1.0, marker={"marker": "o", "ms": 3, "mfc": "white"})
-    if len(result.outliers):
-        out = points[result.outliers]
-        ax.plot(out[:, 0], out[:, 1], ".", ms=3, color="k", zorder=4)
+                          lw=1.0, marker={"marker": "o", "ms": 3, "mfc": "white",
+                                          "label": "polygon vertices, one colour per contour"})
+    _outliers(ax, points, result.outliers)
+    ax.legend(fontsize=8, loc="best", markerscale=2)
     return ax
 
 
 def plot_mscs(points: FloatArray, mscs_by_level: dict[int, list[FloatArray]], closed: bool,
-              ax=None, title: str | None = None):
-    """Fig. 3-4: the multi-storable coefficient runs found at each level, one colour per level."""
-    ax = _axes(ax, title or "MSCs per level")
-    ax.plot(points[:, 0], points[:, 1], ".", ms=1, color="0.75")
+              ax=None, title: str | None = None, units: str | None = None):
+    """Fig. 3-4: the multi-storable coefficient runs found at each level, one colour per level,
+    with a caption that says what an MSC is (`MSC_CAPTION`)."""
+    ax = _axes(ax, title or "MSCs per level", units)
+    _input_points(ax, points)
     for k, (level, runs) in enumerate(sorted(mscs_by_level.items())):
         colour = _COLOURS[k % len(_COLOURS)]
         for j, run in enumerate(runs):
             ax.plot(run[:, 0], run[:, 1], "-o", ms=3, lw=1.5, color=colour,
                     label=f"level {level}: {len(runs)} MSCs" if j == 0 else None)
     ax.legend(fontsize=8)
+    ax.figure.text(0.02, 0.005, MSC_CAPTION, fontsize=7, wrap=True, va="bottom")
     return ax
 
 

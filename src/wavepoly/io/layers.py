@@ -10,20 +10,20 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import DataError
+from ..errors import DataError, ParameterError
 from ..geometry import nesting_depth
 from ..types import SliceResult
 from .atomic import atomic_path, write_text_atomic
 from .streams import is_stream, path_for_stream
 from .units import unit_of
-from .writers import check_valid, svg_document, write_geojson
+from .writers import check_valid, svg_document, write_geojson, write_gpkg
 
-LAYER_FORMATS = ("cli", "svg", "geojson", "json", "stl")
+LAYER_FORMATS = ("cli", "svg", "geojson", "json", "stl", "gpkg")
 
 
 def write_layers(path, result: SliceResult, format: str | None = None, *,
                  fmt: str | None = None, units: str | float = "unitless",
-                 separate: bool = False) -> None:
+                 separate: bool = False, crs: str | None = None) -> None:
     """Write a layer model; the format comes from the extension (`LAYER_FORMATS`).
 
     ``path`` may be a file object, then ``format`` names the format. ``units`` is a unit's
@@ -34,9 +34,11 @@ def write_layers(path, result: SliceResult, format: str | None = None, *,
     fmt = fmt or format
     if is_stream(path):
         with path_for_stream(path, fmt) as tmp:
-            write_layers(tmp, result, fmt=fmt, units=units, separate=separate)
+            write_layers(tmp, result, fmt=fmt, units=units, separate=separate, crs=crs)
         return
     fmt = (fmt or Path(path).suffix.lstrip(".")).lower()
+    if crs is not None and fmt != "gpkg":
+        raise ParameterError(f"{path}: a CRS is written to GeoPackage (.gpkg) only")
     named = isinstance(units, str)
     millimetres = unit_of(units).millimetres if named else float(units)
     if fmt in LAYER_FORMATS:
@@ -47,10 +49,13 @@ def write_layers(path, result: SliceResult, format: str | None = None, *,
         groups = [(f"layer-{k}-z{la.top:.6g}", la.fit.contours)
                   for k, la in enumerate(result.layers)]
         write_text_atomic(path, svg_document(groups, units=units if named else "unitless"))
-    elif fmt in ("geojson", "json"):
+    elif fmt in ("geojson", "json", "gpkg"):
         extras = [{"layer": k, "z": la.z, "bottom": la.bottom, "thickness": la.thickness}
                   for k, la in enumerate(result.layers)]
-        write_geojson(path, [la.fit for la in result.layers], extras)
+        if fmt == "gpkg":
+            write_gpkg(path, [la.fit for la in result.layers], extras, crs=crs)
+        else:
+            write_geojson(path, [la.fit for la in result.layers], extras)
     elif fmt == "stl":
         mesh = layer_mesh(result, separate=separate)
         with atomic_path(path) as tmp:

@@ -353,6 +353,8 @@ def _read_las(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndarr
 
 
 def _read_obj(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndarray:
+    """Every 'v' line of a Wavefront OBJ: a scan's points are vertices that no face uses, and
+    trimesh's OBJ loader (which `read_mesh` uses for the faces) drops those."""
     _no_columns(path, fmt, columns, "its vertices are x y z")
     rows = []
     with _open_text(path) as fh:

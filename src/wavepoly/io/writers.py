@@ -8,30 +8,35 @@ from __future__ import annotations
 
 import csv
 import json
+import os
+import re
 from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 
-from ..errors import DataError
+from ..errors import DataError, EngineError, ParameterError
 from ..geometry import nesting_depth
 from ..types import Contour, FitResult, Ordering
 from .atomic import atomic_path, write_text_atomic
 from .streams import is_stream, path_for_stream
 from .units import unit_of
 
-POLYGON_FORMATS = ("geojson", "json", "svg", "dxf", "csv")
+POLYGON_FORMATS = ("geojson", "json", "svg", "dxf", "csv", "gpkg")
 
 
 def write_polygons(path, result: FitResult, format: str | None = None, *,
-                   fmt: str | None = None, units: str = "unitless") -> None:
+                   fmt: str | None = None, units: str = "unitless",
+                   crs: str | None = None) -> None:
     """Write the contours of ``result`` to ``path``; the format comes from the extension.
 
     ``path`` may be a file object (text or binary), then ``format`` names the format.
     GeoJSON (RFC 7946): a FeatureCollection, closed contours as Polygons with their holes,
     open ones as LineStrings. SVG: one path per contour, y up. DXF: one LWPOLYLINE per
-    contour. CSV: rows of ``contour,vertex,x,y,closed``. ``units`` (`UNITS`) are written
-    where the format has them: DXF's $INSUNITS, SVG's width and height.
+    contour. CSV: rows of ``contour,vertex,x,y,closed``. GeoPackage (``.gpkg``, with the
+    ``gis`` extra): one feature per outer polygon or polyline, in ``crs`` (e.g.
+    ``"EPSG:25832"``) for georeferenced scans. ``units`` (`UNITS`) are written where the
+    format has them: DXF's $INSUNITS, SVG's width and height.
     """
     fmt = fmt or format
     if is_stream(path):
@@ -41,13 +46,18 @@ def write_polygons(path, result: FitResult, format: str | None = None, *,
     fmt = (fmt or Path(path).suffix.lstrip(".")).lower()
     unit_of(units)
     writer = {"geojson": write_geojson, "json": write_geojson, "svg": write_svg,
-              "dxf": write_dxf, "csv": write_csv}.get(fmt)
+              "dxf": write_dxf, "csv": write_csv, "gpkg": write_gpkg}.get(fmt)
+    if crs is not None and fmt != "gpkg":
+        raise ParameterError(f"{path}: a CRS is written to GeoPackage (.gpkg) only; GeoJSON "
+                             "is WGS 84 longitude/latitude by RFC 7946")
     if writer is None:
         raise DataError(f"{path}: unknown polygon format '.{fmt}' "
                         f"(known: {', '.join(POLYGON_FORMATS)})")
     check_valid(path, [result])
     if fmt in ("svg", "dxf"):
         writer(path, [result], units=units)
+    elif fmt == "gpkg":
+        writer(path, [result], crs=crs)
     else:
         writer(path, [result])
 
@@ -159,6 +169,35 @@ def write_dxf(path: str | Path, results: Sequence[FitResult], units: str = "unit
             msp.add_lwpolyline(c.vertices.tolist(), close=c.closed, dxfattribs=attribs)
     with atomic_path(path) as tmp:
         doc.saveas(tmp)
+
+
+def write_gpkg(path: str | Path, results: Sequence[FitResult], extras: Sequence[dict] | None = None,
+               crs: str | None = None) -> None:
+    """A GeoPackage of the features of `geojson_features` (pyogrio, the ``gis`` extra)."""
+    try:
+        from pyogrio.raw import write
+    except ImportError:
+        raise EngineError(f"{path}: writing GeoPackage needs the gis extra: "
+                          "pip install 'wavepoly[gis]'") from None
+    import shapely
+
+    if crs is not None and not re.fullmatch(r"EPSG:\d{4,6}", crs):
+        raise ParameterError(f"--crs takes EPSG:NNNN, not {crs!r}")
+    feats = [f for k, r in enumerate(results)
+             for f in geojson_features(r, extras[k] if extras else None)]
+    if not feats:
+        raise DataError(f"{path}: nothing to write: no contours")
+    names = sorted({key for f in feats for key in f["properties"]})
+    columns = [np.array([f["properties"].get(n, np.nan) for f in feats]) for n in names]
+    wkb = shapely.to_wkb([shapely.geometry.shape(f["geometry"]) for f in feats])
+    with atomic_path(path) as tmp:
+        made = tmp.with_name(tmp.name + ".gpkg")  # GDAL makes it, and wants the extension
+        try:
+            write(str(made), wkb, columns, names, driver="GPKG", geometry_type="Unknown",
+                  crs=crs, layer="contours")
+            os.replace(made, tmp)
+        finally:
+            made.unlink(missing_ok=True)
 
 
 def write_csv(path: str | Path, results: Sequence[FitResult]) -> None:
