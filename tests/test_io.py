@@ -421,3 +421,18 @@ def test_columns_choose_on_every_reader_that_has_columns_and_are_refused_elsewhe
     (tmp_path / "a.obj").write_text("".join(f"v {x} {y} {z}\n" for x, y, z, _ in table))
     with pytest.raises(DataError, match="--columns does not apply to .obj"):
         read_points(tmp_path / "a.obj", columns=(0, 1))
+
+
+def test_streamed_geojson_is_the_text_of_the_whole_collection(tmp_path):
+    import json
+
+    import wavepoly
+    from wavepoly.io.writers import geojson_features, write_geojson
+    from wavepoly.samples import glyph_outlines, sample_rings
+
+    fits = [wavepoly.fit(sample_rings(glyph_outlines(g).rings, spacing=0.03, noise=0.01,
+                                      seed=3), 0.08) for g in "BO"]
+    write_geojson(tmp_path / "s.geojson", fits)
+    whole = {"type": "FeatureCollection",
+             "features": [f for r in fits for f in geojson_features(r)]}
+    assert (tmp_path / "s.geojson").read_text() == json.dumps(whole)

@@ -6,6 +6,7 @@ along z these are the cloud's own x, y.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
@@ -13,7 +14,7 @@ import numpy as np
 from ..errors import DataError, ParameterError
 from ..geometry import nesting_depth
 from ..types import SliceResult
-from .atomic import atomic_path, write_text_atomic
+from .atomic import atomic_path, write_lines_atomic, write_text_atomic
 from .streams import is_stream, path_for_stream
 from .units import unit_of
 from .writers import check_valid, svg_document, write_geojson, write_gpkg
@@ -44,7 +45,7 @@ def write_layers(path, result: SliceResult, format: str | None = None, *,
     if fmt in LAYER_FORMATS:
         check_valid(path, [la.fit for la in result.layers])
     if fmt == "cli":
-        write_text_atomic(path, cli_document(result, units=millimetres))
+        write_lines_atomic(path, cli_lines(result, units=millimetres))
     elif fmt == "svg":
         groups = [(f"layer-{k}-z{la.top:.6g}", la.fit.contours)
                   for k, la in enumerate(result.layers)]
@@ -71,7 +72,13 @@ def build_plate_offset(result: SliceResult) -> float:
 
 
 def cli_document(result: SliceResult, *, units: float = 1.0) -> str:
-    """The layers as an ASCII Common Layer Interface file, standing on the build plate.
+    """The layers as an ASCII Common Layer Interface file (`cli_lines`, joined)."""
+    return "".join(cli_lines(result, units=units))
+
+
+def cli_lines(result: SliceResult, *, units: float = 1.0) -> Iterator[str]:
+    """The lines of an ASCII Common Layer Interface file, layer by layer, standing on the
+    build plate (a writer streams them: no copy of the whole model is made).
 
     Heights start at 0: every layer is written at its top height plus `build_plate_offset`,
     which the header states in a comment (and the slice report holds). Closed contours repeat
@@ -79,20 +86,20 @@ def cli_document(result: SliceResult, *, units: float = 1.0) -> str:
     (clockwise); open ones have 2.
     """
     offset = build_plate_offset(result)
-    lines = ["$$HEADERSTART", "$$ASCII", f"$$UNITS/{units:.6g}", "$$VERSION/200",
-             "$$LABEL/1,wavepoly", f"$$LAYERS/{len(result.layers)}",
-             f"//heights shifted by {offset:+.6f} so that the part stands on the build plate//",
-             "$$HEADEREND", "$$GEOMETRYSTART"]
+    for line in ("$$HEADERSTART", "$$ASCII", f"$$UNITS/{units:.6g}", "$$VERSION/200",
+                 "$$LABEL/1,wavepoly", f"$$LAYERS/{len(result.layers)}",
+                 f"//heights shifted by {offset:+.6f} so that the part stands on the build "
+                 "plate//", "$$HEADEREND", "$$GEOMETRYSTART"):
+        yield line + "\n"
     for layer in result.layers:
-        lines.append(f"$$LAYER/{layer.top + offset:.6f}")
+        yield f"$$LAYER/{layer.top + offset:.6f}\n"
         depth = nesting_depth(layer.fit.parents or [-1] * len(layer.fit.contours))
         for c, d in zip(layer.fit.contours, depth):
             v = np.vstack([c.vertices, c.vertices[:1]]) if c.closed else c.vertices
             direction = (1 if d % 2 == 0 else 0) if c.closed else 2
             coords = ",".join(f"{x:.6f},{y:.6f}" for x, y in v)
-            lines.append(f"$$POLYLINE/1,{direction},{len(v)},{coords}")
-    lines.append("$$GEOMETRYEND")
-    return "\n".join(lines) + "\n"
+            yield f"$$POLYLINE/1,{direction},{len(v)},{coords}\n"
+    yield "$$GEOMETRYEND\n"
 
 
 def layer_mesh(result: SliceResult, *, separate: bool = False):

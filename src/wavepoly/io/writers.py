@@ -18,7 +18,7 @@ import numpy as np
 from ..errors import DataError, EngineError, ParameterError
 from ..geometry import nesting_depth
 from ..types import Contour, FitResult, Ordering
-from .atomic import atomic_path, write_text_atomic
+from .atomic import atomic_path, write_lines_atomic, write_text_atomic
 from .streams import is_stream, path_for_stream
 from .units import unit_of
 
@@ -102,11 +102,18 @@ def geojson_features(result: FitResult, extra: dict | None = None) -> list[dict]
 
 def write_geojson(path: str | Path, results: Sequence[FitResult],
                   extras: Sequence[dict] | None = None) -> None:
-    feats = []
-    for k, r in enumerate(results):
-        feats += geojson_features(r, extras[k] if extras else None)
-    doc = {"type": "FeatureCollection", "features": feats}
-    write_text_atomic(path, json.dumps(doc))
+    """A FeatureCollection of the results' features, written result by result (the text of
+    ``json.dumps`` of the whole collection, without making it)."""
+    def pieces():
+        yield '{"type": "FeatureCollection", "features": ['
+        first = True
+        for k, r in enumerate(results):
+            for feature in geojson_features(r, extras[k] if extras else None):
+                yield ("" if first else ", ") + json.dumps(feature)
+                first = False
+        yield "]}"
+
+    write_lines_atomic(path, pieces())
 
 
 def _svg_path(c: Contour) -> str:
