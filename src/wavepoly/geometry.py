@@ -6,6 +6,7 @@ import numpy as np
 import shapely
 from scipy.spatial import cKDTree
 
+from .kernels import nearest_in_grid, segment_grid
 from .types import Contour, FloatArray, IntArray, nesting_depth
 
 
@@ -40,18 +41,35 @@ def nearest_segment(points: FloatArray, vertices: FloatArray, closed: bool, *,
                     k: int = 4) -> tuple[IntArray, FloatArray]:
     """Index of the nearest segment of a polyline for each point, and the distance to it.
 
-    Segment i runs from vertex i to vertex i+1 (wrapping when ``closed``). Exact and about
-    O((n + m) log m) for n points and m segments: each point tries the segments beside its ``k``
-    nearest vertices (a KD-tree query). That is provably enough when the best of them is nearer
-    than ``sqrt(D_k**2 - (L/2)**2)``, D_k the k-th vertex distance and L the longest segment,
-    because a segment whose ends are both at least D_k away is at least that far. Long segments
-    (gaps, corners cut straight) are cut into pieces first, so that they do not spoil the bound;
-    points still without a proof go to an STRtree. Ties go to the lowest segment.
+    Segment i runs from vertex i to vertex i+1 (wrapping when ``closed``). Exact: long
+    segments (gaps, corners cut straight) are cut into pieces of about twice the median
+    length, listed in a uniform grid of cells of that size, and each point searches rings of
+    cells outwards until no cell left can hold a nearer piece (the compiled
+    `wavepoly.kernels.nearest_in_grid`; `_nearest_segment_kd` is the KD-tree reference of the
+    tests). Ties go to the lowest segment.
 
     >>> square = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
     >>> nearest_segment(np.array([[0.5, -0.2], [1.1, 0.5]]), square, True)
     (array([0, 1]), array([0.2, 0.1]))
     """
+    a, b = polyline_segments(vertices, closed)
+    points = np.asarray(points, dtype=np.float64)
+    if len(points) == 0 or len(a) == 0:
+        return np.zeros(len(points), dtype=np.intp), np.full(len(points), np.inf)
+    if len(a) <= _FEW_SEGMENTS:
+        return _nearest_segment_brute(points, a, b)
+    a, b, piece_of = _cut_long_segments(a, b)
+    a, b = np.ascontiguousarray(a), np.ascontiguousarray(b)
+    seg, dist = nearest_in_grid(np.ascontiguousarray(points), a, b, *segment_grid(a, b))
+    return piece_of[seg], dist
+
+
+def _nearest_segment_kd(points: FloatArray, vertices: FloatArray, closed: bool, *,
+                        k: int = 4) -> tuple[IntArray, FloatArray]:
+    """`nearest_segment` by a KD-tree over the vertices: each point tries the segments beside
+    its ``k`` nearest vertices, which is provably enough when the best of them is nearer than
+    ``sqrt(D_k**2 - (L/2)**2)`` (D_k the k-th vertex distance, L the longest piece); points
+    without that proof go to an STRtree. The NumPy reference of the tests."""
     a, b = polyline_segments(vertices, closed)
     points = np.asarray(points, dtype=np.float64)
     if len(points) == 0 or len(a) == 0:

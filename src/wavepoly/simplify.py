@@ -35,6 +35,7 @@ import shapely
 from scipy.ndimage import maximum_filter1d
 
 from .geometry import hull_candidates, segment_distance
+from .kernels import sweep_cones
 from .types import SLACK, FloatArray, IntArray
 from .validity import bad_edges
 
@@ -288,6 +289,19 @@ def _wrap(angle: FloatArray) -> FloatArray:
 
 def _sweep_cones(frame: Frame, rows: IntArray, limit: float, max_span: int, side: str
                  ) -> list[np.ndarray]:
+    """ok[a][m]: vertex a+m+1 lies in the cone from vertex a over the points between them
+    (the compiled `wavepoly.kernels.sweep_cones`; `_sweep_cones_reference` is its NumPy
+    twin, for the tests)."""
+    n = len(frame.v)
+    last = np.minimum(rows + max_span, n - 1)
+    at = np.searchsorted(frame.prm, frame.u, side)  # points before each vertex's parameter
+    a, b, ok = sweep_cones(np.ascontiguousarray(frame.v), at, np.ascontiguousarray(frame.pts),
+                           np.asarray(rows, dtype=np.intp), last, float(limit), ANGLE_SLACK)
+    return _rows_of(rows, a, b, ok)
+
+
+def _sweep_cones_reference(frame: Frame, rows: IntArray, limit: float, max_span: int,
+                           side: str) -> list[np.ndarray]:
     """ok[a][m]: vertex a+m+1 lies in the cone from vertex a over the points between them.
 
     All starting vertices sweep together, `SWEEP_WINDOW` points at a time: the cone from a is the

@@ -1,0 +1,63 @@
+"""The compiled kernels against their NumPy references, on random cases."""
+
+from __future__ import annotations
+
+import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from wavepoly.simplify import Frame, _sweep_cones, _sweep_cones_reference
+
+
+def noisy_frame(seed: int, n_vertices: int, closed_turns: float):
+    """Candidate vertices along a noisy curve and the points between them, by parameter."""
+    rng = np.random.default_rng(seed)
+    prm = np.sort(rng.uniform(0, 1, 40 * n_vertices))
+    t = 2 * np.pi * closed_turns * prm
+    pts = np.column_stack([np.cos(t) + 0.3 * np.cos(5 * t), np.sin(t)])
+    pts += rng.normal(scale=rng.uniform(0.001, 0.05), size=pts.shape)
+    u = np.sort(rng.choice(prm, n_vertices, replace=False))
+    tu = 2 * np.pi * closed_turns * u
+    v = np.column_stack([np.cos(tu) + 0.3 * np.cos(5 * tu), np.sin(tu)])
+    return Frame(v, u, pts, prm)
+
+
+def true_positions(rows):
+    return [np.flatnonzero(r) for r in rows]
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 10_000), st.integers(3, 120), st.floats(0.2, 1.0),
+       st.floats(0.005, 0.3), st.sampled_from(["left", "right"]))
+def test_the_compiled_cone_sweep_matches_the_numpy_reference(seed, n, turns, limit, side):
+    frame = noisy_frame(seed, n, turns)
+    rows = np.arange(n)
+    span = max(2, n // 2)
+    got = _sweep_cones(frame, rows, limit, span, side)
+    want = _sweep_cones_reference(frame, rows, limit, span, side)
+    assert [list(g) for g in true_positions(got)] == [list(w) for w in true_positions(want)]
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 10_000), st.integers(2, 400), st.booleans(), st.floats(0.0, 3.0))
+def test_the_grid_nearest_segment_matches_the_kd_tree_reference(seed, n, closed, spread):
+    from wavepoly.geometry import (
+        _nearest_segment_kd,
+        nearest_segment,
+        polyline_segments,
+        segment_distance,
+    )
+
+    rng = np.random.default_rng(seed)
+    t = np.sort(rng.uniform(0, 2 * np.pi, n))
+    vertices = np.column_stack([np.cos(t), np.sin(3 * t)]) * rng.uniform(0.1, 100)
+    vertices[rng.random(n) < 0.05] *= 3  # long segments too
+    points = rng.normal(scale=1 + spread, size=(3000, 2)) * np.abs(vertices).max()
+    points[:50] = vertices[rng.integers(0, n, 50)]  # exactly on vertices: ties
+    seg, dist = nearest_segment(points, vertices, closed)
+    _, ref_dist = _nearest_segment_kd(points, vertices, closed)
+    scale = np.abs(vertices).max()
+    np.testing.assert_allclose(dist, ref_dist, rtol=1e-12, atol=1e-12 * scale)  # round-off
+    a, b = polyline_segments(vertices, closed)
+    chosen = segment_distance(points, a[seg], b[seg])  # the same segment, or one as near
+    np.testing.assert_allclose(chosen, ref_dist, rtol=1e-12, atol=1e-12 * scale)
