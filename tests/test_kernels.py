@@ -61,3 +61,22 @@ def test_the_grid_nearest_segment_matches_the_kd_tree_reference(seed, n, closed,
     a, b = polyline_segments(vertices, closed)
     chosen = segment_distance(points, a[seg], b[seg])  # the same segment, or one as near
     np.testing.assert_allclose(chosen, ref_dist, rtol=1e-12, atol=1e-12 * scale)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 10_000), st.integers(2, 200), st.booleans())
+def test_the_compiled_neighbour_distances_match_the_numpy_reference(seed, m, closed):
+    from scipy.spatial import cKDTree
+
+    from wavepoly.kernels import neighbour_distances
+    from wavepoly.reconstruction import _neighbour_distances
+
+    rng = np.random.default_rng(seed)
+    coeffs = np.cumsum(rng.normal(size=(m, 2)), axis=0)
+    points = coeffs[rng.integers(0, m, 2000)] + rng.normal(scale=0.5, size=(2000, 2))
+    owner = cKDTree(coeffs).query(points)[1]
+    got = neighbour_distances(points, owner, coeffs, closed)
+    want = _neighbour_distances(points, owner, coeffs, closed)
+    for g, w in zip(got, want):
+        np.testing.assert_allclose(g, w, rtol=1e-12, atol=1e-12)
+        assert np.array_equal(np.isinf(g), np.isinf(w))

@@ -56,7 +56,7 @@ def nearest_segment(points: FloatArray, vertices: FloatArray, closed: bool, *,
     points = np.asarray(points, dtype=np.float64)
     if len(points) == 0 or len(a) == 0:
         return np.zeros(len(points), dtype=np.intp), np.full(len(points), np.inf)
-    if len(a) <= _FEW_SEGMENTS:
+    if len(a) <= _FEW_SEGMENTS and len(points) * len(a) <= _BRUTE_PAIRS:
         return _nearest_segment_brute(points, a, b)
     a, b, piece_of = _cut_long_segments(a, b)
     a, b = np.ascontiguousarray(a), np.ascontiguousarray(b)
@@ -128,8 +128,11 @@ def _cut_long_segments(a: FloatArray, b: FloatArray) -> tuple[FloatArray, FloatA
     return starts, stops, piece_of
 
 
-#: Polylines with at most this many segments are measured against every segment directly.
+#: Polylines with at most this many segments are measured against every segment directly,
+#: when the points times the segments are at most `_BRUTE_PAIRS` (NumPy's matrix beats the
+#: kernel's call there).
 _FEW_SEGMENTS = 24
+_BRUTE_PAIRS = 200_000
 
 
 def _nearest_segment_brute(points: FloatArray, a: FloatArray, b: FloatArray

@@ -152,3 +152,25 @@ def nearest_in_grid(points, a, b, lo, cell, shape, start, items
             ring += 1
         seg[p], dist[p] = best_s, best
     return seg, dist
+
+
+@njit(cache=True, nogil=True)
+def neighbour_distances(points: np.ndarray, owner: np.ndarray, coeffs: np.ndarray,
+                        closed: bool) -> tuple[np.ndarray, np.ndarray]:  # pragma: no cover
+    """Distance of each point to the control-polygon segments before and after the
+    coefficient it belongs to (eq. 8); inf where an open polygon has no such segment."""
+    m, n = len(coeffs), len(points)
+    d_prev, d_next = np.full(n, np.inf), np.full(n, np.inf)
+    for p in range(n):
+        o = owner[p]
+        prev, nxt = o - 1, o + 1
+        if closed:
+            prev, nxt = prev % m, nxt % m
+        px, py = points[p, 0], points[p, 1]
+        if prev >= 0:
+            d_prev[p] = _segment_distance(px, py, coeffs[prev, 0], coeffs[prev, 1],
+                                          coeffs[o, 0], coeffs[o, 1])
+        if nxt < m:
+            d_next[p] = _segment_distance(px, py, coeffs[o, 0], coeffs[o, 1],
+                                          coeffs[nxt, 0], coeffs[nxt, 1])
+    return d_prev, d_next

@@ -27,6 +27,7 @@ from scipy.spatial import cKDTree
 
 from . import wavelets
 from .geometry import nearest_segment, polyline_distance, segment_distance
+from .kernels import neighbour_distances
 from .simplify import edge_of, own_edge_distance, select_vertices
 from .types import SLACK, FloatArray, IntArray, Msc, Pyramid, Reconstruction
 
@@ -125,7 +126,8 @@ def _unit(v: FloatArray) -> FloatArray:
 
 def _neighbour_distances(points: FloatArray, owner: IntArray, coeffs: FloatArray, closed: bool
                          ) -> tuple[FloatArray, FloatArray]:
-    """Distance of each point to the segments before and after its coefficient (inf if none)."""
+    """Distance of each point to the segments before and after its coefficient (inf if none):
+    the NumPy reference of `wavepoly.kernels.neighbour_distances`, for the tests."""
     m = len(coeffs)
     prev = owner - 1
     nxt = owner + 1
@@ -153,7 +155,8 @@ def storable_mask(points: FloatArray, coeffs: FloatArray, closed: bool, toleranc
     if len(points) == 0:
         return np.ones(len(coeffs), dtype=bool), np.empty(0, dtype=np.intp)
     _, owner = cKDTree(coeffs).query(points)
-    d_prev, d_next = _neighbour_distances(points, owner, coeffs, closed)
+    d_prev, d_next = neighbour_distances(np.ascontiguousarray(points), owner,
+                                         np.ascontiguousarray(coeffs), closed)
     bad = np.minimum(d_prev, d_next) > tolerance * (1 + SLACK)
     return np.bincount(owner, weights=bad, minlength=len(coeffs)) == 0, owner
 
@@ -212,7 +215,8 @@ def _covered(points: FloatArray, owner: IntArray, coeffs: FloatArray, run_id: In
     m = len(coeffs)
     in_run = run_id[owner] >= 0
     pts, own = points[in_run], owner[in_run]
-    d_prev, d_next = _neighbour_distances(pts, own, coeffs, closed)
+    d_prev, d_next = neighbour_distances(np.ascontiguousarray(pts), own,
+                                         np.ascontiguousarray(coeffs), closed)
     prev = (own - 1) % m if closed else np.maximum(own - 1, 0)
     nxt = (own + 1) % m if closed else np.minimum(own + 1, m - 1)
     same_prev = (run_id[prev] == run_id[own]) & (prev != own)
