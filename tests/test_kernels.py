@@ -80,3 +80,24 @@ def test_the_compiled_neighbour_distances_match_the_numpy_reference(seed, m, clo
     for g, w in zip(got, want):
         np.testing.assert_allclose(g, w, rtol=1e-12, atol=1e-12)
         assert np.array_equal(np.isinf(g), np.isinf(w))
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 10_000), st.integers(1, 30), st.floats(0.001, 0.5))
+def test_the_compiled_hull_filter_matches_the_numpy_reference(seed, blocks, width):
+    from wavepoly.geometry import _STRIP_ANGLES, _thin_blocks
+    from wavepoly.kernels import thin_blocks
+
+    rng = np.random.default_rng(seed)
+    counts = rng.integers(20, 400, blocks)
+    starts = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.intp)
+    ends = starts + counts
+    t = np.concatenate([np.sort(rng.uniform(0, 1, c)) for c in counts])
+    pts = np.column_stack([t * 10, width * rng.normal(size=len(t))])
+    pts = np.round(pts, 3)  # ties among the extremes, as on a scanner's grid
+    dirs = np.ascontiguousarray(np.stack([np.cos(_STRIP_ANGLES), np.sin(_STRIP_ANGLES)]))
+    want, got = np.ones(len(pts), bool), np.ones(len(pts), bool)
+    _thin_blocks(pts, starts, ends, dirs, want)
+    thin_blocks(pts, starts, ends, dirs, got)
+    np.testing.assert_array_equal(got, want)
+    assert got.sum() < len(pts)

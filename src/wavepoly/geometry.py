@@ -6,7 +6,7 @@ import numpy as np
 import shapely
 from scipy.spatial import cKDTree
 
-from .kernels import nearest_in_grid, segment_grid
+from .kernels import nearest_in_grid, segment_grid, thin_blocks
 from .types import Contour, FloatArray, IntArray, nesting_depth
 
 
@@ -218,25 +218,26 @@ def hull_candidates(points: FloatArray, starts: IntArray, angles: FloatArray | N
     >>> np.flatnonzero(hull_candidates(square, np.array([0]), eight))
     array([0, 1, 2, 3])
     """
-    points = np.asarray(points, dtype=np.float64)
+    points = np.ascontiguousarray(points, dtype=np.float64)
     angles = _STRIP_ANGLES if angles is None else np.asarray(angles, dtype=np.float64)
     n = len(points)
     keep = np.ones(n, dtype=bool)
     starts = np.asarray(starts, dtype=np.intp)
     ends = np.append(starts[1:], n)
-    dirs = np.stack([np.cos(angles), np.sin(angles)])
+    dirs = np.ascontiguousarray(np.stack([np.cos(angles), np.sin(angles)]))
     big = np.flatnonzero(ends - starts > len(angles))  # smaller blocks are kept whole
     i = 0
     while i < len(big):  # whole blocks, about ``chunk`` points at a time (bounded memory)
         j = i + max(1, int(np.searchsorted(starts[big[i:]], starts[big[i]] + chunk)))
-        _thin_blocks(points, starts[big[i:j]], ends[big[i:j]], dirs, keep)
+        thin_blocks(points, starts[big[i:j]], ends[big[i:j]], dirs, keep)
         i = j
     return keep
 
 
 def _thin_blocks(points: FloatArray, starts: IntArray, ends: IntArray, dirs: FloatArray,
                  keep: np.ndarray) -> None:
-    """`hull_candidates` on some blocks: clear ``keep`` of the points inside their polygons."""
+    """`hull_candidates` on some blocks: clear ``keep`` of the points inside their polygons
+    (the NumPy reference of `wavepoly.kernels.thin_blocks`, for the tests)."""
     counts = ends - starts
     first = np.cumsum(counts) - counts
     index = np.repeat(starts - first, counts) + np.arange(counts.sum())

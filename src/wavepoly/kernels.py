@@ -174,3 +174,50 @@ def neighbour_distances(points: np.ndarray, owner: np.ndarray, coeffs: np.ndarra
             d_next[p] = _segment_distance(px, py, coeffs[o, 0], coeffs[o, 1],
                                           coeffs[nxt, 0], coeffs[nxt, 1])
     return d_prev, d_next
+
+
+@njit(cache=True, nogil=True)
+def thin_blocks(points: np.ndarray, starts: np.ndarray, ends: np.ndarray, dirs: np.ndarray,
+                keep: np.ndarray) -> None:  # pragma: no cover - compiled
+    """Akl & Toussaint's filter on each block ``points[starts[i]:ends[i]]``: clear ``keep`` of
+    the points strictly inside the polygon of the block's extreme points in the directions
+    ``dirs`` (2, d), measured in the frame of the block's chord (see `hull_candidates`)."""
+    nd = dirs.shape[1]
+    corner = np.empty((nd, 2))
+    extreme = np.empty(nd, dtype=np.intp)
+    for blk in range(len(starts)):
+        s, e = starts[blk], ends[blk]
+        cx, cy = points[e - 1, 0] - points[s, 0], points[e - 1, 1] - points[s, 1]
+        norm = math.hypot(cx, cy)
+        ax, ay = (cx / norm, cy / norm) if norm > 0 else (1.0, 0.0)
+        ox, oy = points[s, 0], points[s, 1]
+        for k in range(nd):
+            best = -np.inf
+            for q in range(s, e):
+                dx, dy = points[q, 0] - ox, points[q, 1] - oy
+                x, y = dx * ax + dy * ay, dy * ax - dx * ay
+                proj = x * dirs[0, k] + y * dirs[1, k]
+                if proj > best:
+                    best, extreme[k] = proj, q
+                    corner[k, 0], corner[k, 1] = x, y
+        for q in range(s, e):
+            dx, dy = points[q, 0] - ox, points[q, 1] - oy
+            x, y = dx * ax + dy * ay, dy * ax - dx * ay
+            inside = True
+            for k in range(nd):
+                k2 = (k + 1) % nd
+                ex, ey = corner[k2, 0] - corner[k, 0], corner[k2, 1] - corner[k, 1]
+                length2 = ex * ex + ey * ey
+                if length2 <= 0:
+                    continue  # a degenerate edge tells nothing
+                c = ex * corner[k, 1] - ey * corner[k, 0]
+                c += 1e-12 * (length2 + abs(c))  # a margin: on the edge is not inside
+                if not y * ex - x * ey > c:
+                    inside = False
+                    break
+            if inside:
+                for k in range(nd):
+                    if extreme[k] == q:
+                        inside = False
+            if inside:
+                keep[q] = False
