@@ -46,6 +46,18 @@ def _input_points(ax, points: FloatArray) -> None:
             label=f"input points ({len(points)})")
 
 
+def _legend(ax, **kw) -> None:
+    """A legend whose markers are all of one readable size (the plotted dots are tiny)."""
+    legend = ax.legend(fontsize=8, loc=kw.pop("loc", "best"), **kw)
+    for handle in legend.legend_handles:
+        if hasattr(handle, "set_markersize"):
+            handle.set_markersize(LEGEND_MARKER)
+
+
+#: Size (points) of every marker in a legend.
+LEGEND_MARKER = 6
+
+
 def _outliers(ax, points: FloatArray, outliers) -> None:
     """Outliers small and light, at most `MAX_OUTLIER_DOTS` of them (an even sample)."""
     if not len(outliers):
@@ -96,7 +108,7 @@ def plot_ordering(points: FloatArray, ordering: Ordering, ax=None, title: str | 
     if len(ordering.merged_walls):
         ax.plot(*ordering.merged_walls.T, "o", mfc="none", color="m", ms=8, zorder=5,
                 label="walls that may be merged")
-    ax.legend(fontsize=8, loc="best", markerscale=3)
+    _legend(ax)
     return ax
 
 
@@ -124,7 +136,7 @@ def plot_levels(points: FloatArray, fine: FloatArray, coarse: FloatArray, closed
     zoom.set_xticks([])
     zoom.set_yticks([])
     ax.indicate_inset_zoom(zoom, edgecolor="0.3")
-    ax.legend(fontsize=8, markerscale=2, loc="upper left")
+    _legend(ax, loc="upper left")
     return ax
 
 
@@ -154,7 +166,7 @@ def plot_fit(points: FloatArray, result: FitResult, ax=None, title: str | None =
                           lw=1.0, marker={"marker": "o", "ms": 3, "mfc": "white",
                                           "label": "polygon vertices, one colour per contour"})
     _outliers(ax, points, result.outliers)
-    ax.legend(fontsize=8, loc="best", markerscale=2)
+    _legend(ax)
     return ax
 
 
