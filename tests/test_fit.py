@@ -190,3 +190,25 @@ def test_a_tolerance_larger_than_the_points_gives_one_segment():
     assert len(result.contours) == 1 and result.contours[0].n_vertices == 2
     assert len(result.outliers) == 0 and result.validity.valid
     assert any("one segment" in note for note in result.notes)
+
+
+def test_pieces_of_a_split_contour_share_its_points_in_the_summary_and_the_mean():
+    from dataclasses import replace
+
+    from wavepoly.fit import _split_crossings
+    from wavepoly.io.report import fit_summary
+    from wavepoly.types import Contour, ContourReport, FitResult
+
+    square = np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]])
+    report = ContourReport(500, 60, True, 2, 6, 4, {4: 1}, 12, 4, 0.01, 0.004)
+    contours = [Contour(square, True, 0.01, 0.004), Contour(square + 1.0, True, 0.01, 0.004)]
+    pieces, reports = _split_crossings(contours, [report, replace(report, input_points=300)])
+    assert len(pieces) > 2 and all(not c.closed for c in pieces)
+    firsts = {r.first_piece for r in reports}
+    assert firsts == {0, next(k for k, r in enumerate(reports) if r.input_points == 300)}
+    result = FitResult(pieces, 0.02, 0.01, 0.004, np.empty(0, dtype=np.intp), 800,
+                       [-1] * len(pieces), reports)
+    lines = fit_summary(result)
+    assert sum("a piece of contour" in ln for ln in lines) == len(pieces) - 2
+    counted = [ln for ln in lines if " points -> " in ln and ln.startswith("contour")]
+    assert sum(int(ln.split()[3]) for ln in counted) == 800  # each input point counted once

@@ -103,9 +103,11 @@ def fit(points: FloatArray, tolerance: float, *,
     parents = nest_contours(contours)
     contours = orient_by_depth(contours, parents)
     errors = np.concatenate([[c.max_error] for c in contours]) if contours else np.zeros(1)
-    n_members = sum(r.input_points for r in reports)
-    mean = (sum(c.mean_error * r.input_points for c, r in zip(contours, reports)) / n_members
-            if n_members else 0.0)
+    counted = [k == (r.first_piece if r.first_piece is not None else k)
+               for k, r in enumerate(reports)]  # the pieces of a split contour share its points
+    n_members = sum(r.input_points for r, once in zip(reports, counted) if once)
+    mean = (sum(c.mean_error * r.input_points for c, r, once in zip(contours, reports, counted)
+                if once) / n_members if n_members else 0.0)
     timings["verification"] += time.perf_counter() - t0
     notes = list(ordering.notes)
     if not contours:
@@ -148,11 +150,11 @@ def _split_crossings(contours: list[Contour], reports: list[ContourReport]
     pieces = split_at_crossings_of([c.vertices for c in contours], [c.closed for c in contours])
     out_c, out_r = [], []
     for k, (c, r) in enumerate(zip(contours, reports)):
+        first = len(out_c)
         for xy in pieces.get(k, [c.vertices]):
-            closed = c.closed and k not in pieces
-            out_c.append(Contour(xy, closed, c.max_error, c.mean_error))
-            out_r.append(r if closed == r.closed else replace(r, closed=False,
-                                                              final_vertices=len(xy)))
+            out_c.append(Contour(xy, c.closed and k not in pieces, c.max_error, c.mean_error))
+            out_r.append(r if k not in pieces else replace(
+                r, closed=False, final_vertices=len(xy), first_piece=first))
     return out_c, out_r
 
 

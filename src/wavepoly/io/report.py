@@ -50,6 +50,11 @@ def fit_summary(result: FitResult) -> list[str]:
     """Lines for a terminal: one per contour, then the totals, then the notes."""
     lines = []
     for k, (c, r) in enumerate(zip(result.contours, result.reports)):
+        if r.first_piece is not None and r.first_piece != k:
+            lines.append(f"contour {k}: open   a piece of contour {r.first_piece}'s points, "
+                         f"split at a junction -> {r.final_vertices:4d} vertices, max error "
+                         f"{c.max_error:.4g}")
+            continue
         lines.append(f"contour {k}: {'closed' if c.closed else 'open  '} {r.input_points:7d} "
                      f"points -> {r.ordered_points:6d} ordered -> {r.wavelet_vertices:5d} "
                      f"wavelet -> {r.final_vertices:4d} vertices, max error {c.max_error:.4g}")

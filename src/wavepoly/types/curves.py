@@ -148,7 +148,11 @@ class Validity:
 
 @dataclass(frozen=True)
 class ContourReport:
-    """Per-contour figures of a fit (the report JSON holds these)."""
+    """Per-contour figures of a fit (the report JSON holds these).
+
+    first_piece: for a contour split at junctions into pieces, the index of the output contour
+    whose report first counted the points (the pieces share them); None when not split.
+    """
 
     input_points: int
     ordered_points: int
@@ -161,6 +165,7 @@ class ContourReport:
     final_vertices: int
     max_error: float
     mean_error: float
+    first_piece: int | None = None
 
 
 @dataclass(frozen=True, repr=False)
