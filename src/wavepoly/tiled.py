@@ -81,12 +81,12 @@ def slice_tiles(sources: Sequence[str | Path], tolerance: float, *, layer_thickn
     relative_tolerance = check_relative_tolerance(relative_tolerance)
     if band is not None:
         band = check_tolerance(band, "band")
-    with _client(scheduler, workers) as (client, engine):
+    with _Cluster(scheduler, workers) as (client, engine):
         return _slice_on(client, engine, paths, tolerance, step, plane_basis(axis), band,
                          relative_tolerance, fmt, columns, progress)
 
 
-class _client:
+class _Cluster:
     """A Dask client for ``scheduler`` (an address, or "local" for a cluster started here and
     stopped on leaving), with the engine record of the report."""
 
