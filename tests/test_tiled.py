@@ -176,3 +176,14 @@ def test_the_command_names_an_unreachable_scheduler_and_writes_nothing(tiles, tm
     assert out.stderr.strip().count("\n") == 0
     assert "cannot reach the Dask scheduler at tcp://127.0.0.1:9" in out.stderr
     assert list(tmp_path.iterdir()) == []
+
+
+def test_adaptive_layers_of_tiles_run_here_on_their_union(tiles, tmp_path):
+    import json
+
+    out = _wavepoly("slice", tiles[0].parent, "-t", "0.05", "--adaptive", "-o",
+                    tmp_path / "a.cli", "--report", tmp_path / "a.json")
+    assert out.returncode == 0, out.stderr
+    doc = json.loads((tmp_path / "a.json").read_text())
+    assert doc["adaptive"] and doc["points"] == 60000 and doc["input"] == [str(p) for p in tiles]
+    assert doc["model_error"] <= 0.05 * (1 + 1e-9)

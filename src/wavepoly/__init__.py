@@ -34,7 +34,7 @@ from .io import (
     write_polygons,
     write_report,
 )
-from .io.tiles import expand_sources
+from .io.tiles import expand_sources, read_cloud
 from .io.units import UNITS
 from .ordering import curve_spacing, median_spacing, order_points
 from .slicing import slice_cloud, slice_mesh
@@ -60,8 +60,8 @@ __all__ = ["__version__", "as_planar", "Contour", "ContourReport", "curve_spacin
            "dask_available", "DataError", "DEFAULT_RELATIVE_TOLERANCE", "detect_format",
            "EngineError", "expand_sources", "fit", "fit_report", "fit_summary", "FitResult",
            "Layer", "LAYER_FORMATS", "median_spacing", "order_points", "OrderedContour",
-           "Ordering", "ordering_summary", "ParameterError", "POLYGON_FORMATS", "read_mesh",
-           "read_points", "ReadNote", "scheduler_from_environment", "slice_cloud", "slice_mesh",
-           "slice_report", "slice_summary", "slice_tiles", "SliceResult", "UNITS",
+           "Ordering", "ordering_summary", "ParameterError", "POLYGON_FORMATS", "read_cloud",
+           "read_mesh", "read_points", "ReadNote", "scheduler_from_environment", "slice_cloud",
+           "slice_mesh", "slice_report", "slice_summary", "slice_tiles", "SliceResult", "UNITS",
            "validate_points", "WavepolyError", "write_layers", "write_ordering", "write_points",
            "write_polygons", "write_report"]

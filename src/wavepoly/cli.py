@@ -324,9 +324,8 @@ def slice_command(
         if scheduler:
             raise ParameterError("--scheduler fits uniform layers (--layer) of a cloud; "
                                  "adaptive layers and --from-mesh run here")
-        if len(sources) > 1:
-            raise ParameterError(f"{'--from-mesh' if from_mesh else '--adaptive'} slices one "
-                                 f"file, got {len(sources)}")
+        if from_mesh and len(sources) > 1:
+            raise ParameterError(f"--from-mesh slices one mesh file, got {len(sources)}")
     if from_mesh:
         if adaptive:
             raise ParameterError("--from-mesh slices uniform layers (--layer); adaptive "
@@ -334,8 +333,10 @@ def slice_command(
         result = wavepoly.slice_mesh(wavepoly.read_mesh(sources[0]), tolerance,
                                      axis=direction, layer_thickness=layer)
     elif adaptive:
-        pts = wavepoly.validate_points(_read(sources[0], fmt, columns), source=str(sources[0]),
-                                       min_points=3)
+        pts = (_read(sources[0], fmt, columns) if len(sources) == 1 else
+               wavepoly.read_cloud(sources, fmt=fmt, columns=_columns(columns)))
+        pts = wavepoly.validate_points(pts, source=str(sources[0]) if len(sources) == 1 else
+                                       f"{len(sources)} files", min_points=3)
         with Progress("fitting layers") as progress:
             result = wavepoly.slice_cloud(pts, tolerance, axis=direction, adaptive=True,
                                           min_layer=min_layer, max_layer=max_layer, band=band,
