@@ -89,28 +89,22 @@ the tiles, which is parallel too."""
 
 
 def _make_cloud(mesh_path: Path, folder: Path) -> tuple[float, float, float]:
-    import laspy
     import trimesh
     from plyfile import PlyData, PlyElement
+
+    if str(ROOT) not in sys.path:  # the cloud makers live beside the tests
+        sys.path.insert(0, str(ROOT))
+    from tests import truth
 
     t0 = time.perf_counter()
     mesh = trimesh.load(mesh_path, process=False)
     diag = float(np.linalg.norm(mesh.extents))
-    pts, _ = trimesh.sample.sample_surface(mesh, POINTS, seed=7)
-    pts += np.random.default_rng(7).normal(scale=NOISE * diag, size=pts.shape)
+    pts = truth.noisy_surface_cloud(mesh, POINTS, NOISE * diag, seed=7)
     vertex = np.empty(len(pts), dtype=[("x", "<f4"), ("y", "<f4"), ("z", "<f4")])
     vertex["x"], vertex["y"], vertex["z"] = pts.T
     PlyData([PlyElement.describe(vertex, "vertex")]).write(str(folder / "cloud.ply"))
     del vertex
-    (folder / "tiles").mkdir()
-    order = np.argsort(pts[:, 0], kind="stable")
-    for k, part in enumerate(np.array_split(order, TILES)):
-        header = laspy.LasHeader(point_format=0, version="1.2")
-        header.scales, header.offsets = [1e-4] * 3, pts.min(axis=0)
-        las = laspy.LasData(header)
-        tile = pts[np.sort(part)]
-        las.x, las.y, las.z = tile[:, 0], tile[:, 1], tile[:, 2]
-        las.write(str(folder / "tiles" / f"tile{k}.laz"))
+    truth.las_tiles(folder / "tiles", pts, TILES)
     height = float(mesh.extents[2])
     return time.perf_counter() - t0, EPS_PER_NOISE * NOISE * diag, height / LAYERS
 

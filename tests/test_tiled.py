@@ -13,6 +13,8 @@ from wavepoly.io.tiles import expand_sources, read_chunks, tile_layers, tile_sum
 from wavepoly.slicing import plane_basis, slice_cloud
 from wavepoly.tiled import slice_tiles
 
+from .truth import las_tiles
+
 laspy = pytest.importorskip("laspy")
 
 
@@ -26,20 +28,8 @@ def vase(n=60000, seed=5):
 
 
 def write_tiles(folder, cloud, count=3):
-    """The cloud as LAZ tiles cut across x (as a survey is), and the cloud as the tiles hold
-    it (their quantized coordinates, in tile order)."""
-    folder.mkdir(exist_ok=True)
-    order = np.argsort(cloud[:, 0], kind="stable")
-    paths = []
-    for k, part in enumerate(np.array_split(order, count)):
-        header = laspy.LasHeader(point_format=0, version="1.2")
-        header.scales, header.offsets = [1e-4] * 3, cloud.min(axis=0)
-        las = laspy.LasData(header)
-        pts = cloud[np.sort(part)]
-        las.x, las.y, las.z = pts[:, 0], pts[:, 1], pts[:, 2]
-        paths.append(folder / f"tile{k}.laz")
-        las.write(str(paths[-1]))
-    return paths
+    """The cloud as LAZ tiles (`truth.las_tiles`)."""
+    return las_tiles(folder, cloud, count)
 
 
 @pytest.fixture(scope="module")

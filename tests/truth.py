@@ -144,3 +144,22 @@ def noisy_surface_cloud(mesh, n: int, sigma: float, seed: int = 0) -> np.ndarray
 
     pts, _ = trimesh.sample.sample_surface(mesh, n, seed=seed)
     return pts + np.random.default_rng(seed).normal(scale=sigma, size=pts.shape)
+
+
+def las_tiles(folder, cloud: np.ndarray, count: int) -> list:
+    """The cloud as ``count`` LAZ tiles cut across x (as a survey is), 0.1 µm grid, each
+    tile's points in the cloud's order; the paths, in order."""
+    import laspy
+
+    folder.mkdir(parents=True, exist_ok=True)
+    order = np.argsort(cloud[:, 0], kind="stable")
+    paths = []
+    for k, part in enumerate(np.array_split(order, count)):
+        header = laspy.LasHeader(point_format=0, version="1.2")
+        header.scales, header.offsets = [1e-4] * 3, cloud.min(axis=0)
+        las = laspy.LasData(header)
+        pts = cloud[np.sort(part)]
+        las.x, las.y, las.z = pts[:, 0], pts[:, 1], pts[:, 2]
+        paths.append(folder / f"tile{k}.laz")
+        las.write(str(paths[-1]))
+    return paths

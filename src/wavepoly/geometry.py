@@ -37,8 +37,8 @@ def polyline_segments(vertices: FloatArray, closed: bool) -> tuple[FloatArray, F
     return vertices[:-1], vertices[1:]
 
 
-def nearest_segment(points: FloatArray, vertices: FloatArray, closed: bool, *,
-                    k: int = 4) -> tuple[IntArray, FloatArray]:
+def nearest_segment(points: FloatArray, vertices: FloatArray, closed: bool
+                    ) -> tuple[IntArray, FloatArray]:
     """Index of the nearest segment of a polyline for each point, and the distance to it.
 
     Segment i runs from vertex i to vertex i+1 (wrapping when ``closed``). Exact: long
@@ -60,7 +60,8 @@ def nearest_segment(points: FloatArray, vertices: FloatArray, closed: bool, *,
         return _nearest_segment_brute(points, a, b)
     a, b, piece_of = _cut_long_segments(a, b)
     a, b = np.ascontiguousarray(a), np.ascontiguousarray(b)
-    seg, dist = nearest_in_grid(np.ascontiguousarray(points), a, b, *segment_grid(a, b))
+    seg, dist = nearest_in_grid(np.ascontiguousarray(points), a, b, *segment_grid(a, b),
+                                np.full(len(points), np.inf))
     return piece_of[seg], dist
 
 
@@ -266,13 +267,12 @@ def _thin_blocks(points: FloatArray, starts: IntArray, ends: IntArray, dirs: Flo
     keep[index[inside]] = False
 
 
-def segments_distance(points: FloatArray, a: FloatArray, b: FloatArray, k: int = 6,
+def segments_distance(points: FloatArray, a: FloatArray, b: FloatArray,
                       limit: FloatArray | float | None = None) -> FloatArray:
     """Distance of each point to the nearest of the segments ``a[i]``-``b[i]`` (any set: rings,
-    lines, pieces). Exact, by the bound of `nearest_segment`: each point tries the segments of
-    its ``k`` nearest end points, and those without a proof go to an STRtree. With a
-    ``limit`` (per point or one), a distance is exact below it and otherwise only known to be
-    at least the limit (the value returned is then at least the limit).
+    lines, pieces), by the exact grid search of `nearest_segment`. With a ``limit`` (per point
+    or one), a distance is exact below it and otherwise only known to be at least the limit
+    (the value returned is then at least the limit): far points stop searching early.
 
     >>> a, b = np.array([[0.0, 0.0], [5.0, 0.0]]), np.array([[1.0, 0.0], [5.0, 1.0]])
     >>> segments_distance(np.array([[0.5, 0.5], [4.0, 0.5]]), a, b)
@@ -281,23 +281,12 @@ def segments_distance(points: FloatArray, a: FloatArray, b: FloatArray, k: int =
     points = np.asarray(points, dtype=np.float64)
     if len(points) == 0 or len(a) == 0:
         return np.full(len(points), np.inf)
-    if len(a) <= _FEW_SEGMENTS:
+    if len(a) <= _FEW_SEGMENTS and len(points) * len(a) <= _BRUTE_PAIRS:
         return _nearest_segment_brute(points, a, b)[1]
     a, b, _ = _cut_long_segments(a, b)
-    ends = np.vstack([a, b])
-    k = min(k, len(ends))
-    vdist, vidx = cKDTree(ends).query(points, k=k)
-    vdist, vidx = vdist.reshape(len(points), k), vidx.reshape(len(points), k)
-    _, dist = _nearest_candidate(points, a, b, vidx % len(a))
-    half = 0.5 * float(np.hypot(*(b - a).T).max())
-    bound = np.sqrt(np.maximum(vdist[:, -1] ** 2 - half**2, 0.0))
-    unsure = dist > bound if k < len(ends) else np.zeros(len(points), dtype=bool)
-    if limit is not None:
-        unsure &= bound < limit
-    unsure = np.flatnonzero(unsure)
-    if len(unsure):
-        dist[unsure] = _nearest_segment_tree(points[unsure], a, b)[1]
-    return dist
+    a, b = np.ascontiguousarray(a), np.ascontiguousarray(b)
+    bound = np.broadcast_to(np.inf if limit is None else limit, len(points)).astype(float)
+    return nearest_in_grid(np.ascontiguousarray(points), a, b, *segment_grid(a, b), bound)[1]
 
 
 def polyline_distance(points: FloatArray, vertices: FloatArray, closed: bool) -> FloatArray:

@@ -115,10 +115,12 @@ def _fill_cells(c0, c1, nx, ny):  # pragma: no cover - compiled
 
 
 @njit(cache=True, nogil=True)
-def nearest_in_grid(points, a, b, lo, cell, shape, start, items
+def nearest_in_grid(points, a, b, lo, cell, shape, start, items, limit
                     ) -> tuple[np.ndarray, np.ndarray]:  # pragma: no cover - compiled
     """Nearest segment of each point (ties: the lowest index) and the distance, exact: rings
-    of cells are searched outwards until no unsearched cell can hold a nearer segment."""
+    of cells are searched outwards until no unsearched cell can hold a nearer segment, or
+    until none can hold one nearer than ``limit[p]`` (then the value returned is only known
+    to be at least the limit; -1 as the segment when none was found)."""
     nx, ny = shape[0], shape[1]
     seg = np.empty(len(points), dtype=np.intp)
     dist = np.empty(len(points))
@@ -147,7 +149,7 @@ def nearest_in_grid(points, a, b, lo, cell, shape, start, items
                 bound = min(bound, py - (lo[1] + j0 * cell))
             if j1 < ny - 1:
                 bound = min(bound, lo[1] + (j1 + 1) * cell - py)
-            if best < bound or bound == np.inf:
+            if best < bound or bound == np.inf or bound >= limit[p]:
                 break
             ring += 1
         seg[p], dist[p] = best_s, best

@@ -15,8 +15,9 @@ is accepted when the staircase error of its slab stays within the tolerance; the
 grows from the previous layer's while that holds and shrinks when it fails, between
 ``min_layer`` and ``max_layer``.
 
-Layers are independent once planned: `fit_layer_job` is a pure function of a `LayerJob` (the
-section points and the parameters), run in a local process pool here and ready for a cluster.
+Layers are independent once planned: `wavepoly.bands.fit_layer_job` is a pure function of a
+`LayerJob` (the layer's parameters and its band of the cloud), run here in a local process pool
+and, for tiles, on a Dask cluster (`wavepoly.tiled`).
 
 >>> import numpy as np
 >>> rng = np.random.default_rng(0)

@@ -24,6 +24,7 @@ import signal
 import threading
 import time
 from collections.abc import Callable, Sequence
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -190,7 +191,7 @@ def _fit_pieces(spec, *layers: FloatArray):
 
 def _error_of(job: ErrorJob, slab: FloatArray) -> float:
     """`layer_error_job` with the slab's points sent apart from the contours."""
-    return layer_error_job(ErrorJob(slab, job.bottom, job.top, job.own, job.below, job.above))
+    return layer_error_job(replace(job, slab=slab))
 
 
 def dask_available() -> bool:
