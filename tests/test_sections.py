@@ -18,6 +18,13 @@ def _mesh(shared_data, name):
     return trimesh.load(shared_data / "scans3d" / name, process=False)
 
 
+def _largest_gap(xy: np.ndarray) -> float:
+    """The widest gap (as an arc length) between section points round a circle at 0."""
+    angle = np.sort(np.arctan2(xy[:, 1], xy[:, 0]))
+    gaps = np.diff(np.append(angle, angle[0] + 2 * np.pi))
+    return float(gaps.max() * np.hypot(*xy.T).mean())
+
+
 def test_a_sloped_band_becomes_a_line_on_the_mid_plane():
     """A cone's slab spreads over a band as wide as the slab times the slope; slid along the
     surface, its points lie on the circle of the cone's section at the mid-plane."""
@@ -33,7 +40,8 @@ def test_a_sloped_band_becomes_a_line_on_the_mid_plane():
     assert np.ptp(band) > 1.5  # the slab's points spread over 1.6 units of radius
     sec = section_points(surface, rows, 5.0)
     radius = np.hypot(*sec.T)
-    assert len(sec) > 0.2 * (rows.stop - rows.start)  # those whose surface reaches z = 5
+    # those whose neighbourhood reaches z = 5: the circle is covered without gaps
+    assert _largest_gap(sec) < 0.05 * 6.0
     assert np.abs(radius - 6.0).max() < 0.02
 
 
@@ -70,7 +78,7 @@ def test_a_scan_denser_than_its_noise_is_thinned_to_planar_neighbourhoods():
         surface = surface_samples(uvh)
         rows = slice(*np.searchsorted(surface.uvh[:, 2], [0.8, 1.2]))
         sec = section_points(surface, rows, 1.0)
-        assert len(sec) > 0.2 * (rows.stop - rows.start)
+        assert _largest_gap(sec) < 0.05 * 5.0
         assert np.abs(np.hypot(*sec.T) - 5).mean() < (0.06 if thinned else 1e-3)
 
 

@@ -41,6 +41,11 @@ MSC_END_SLACK = 1e-12
 SAME_POINT = 1e-12
 #: Fewest storable coefficients in a run that makes an MSC (two ends and two inner ones, §4.1).
 MIN_RUN = 4
+#: Farthest a vertex may lie from the ordered curve, in tolerances: the tolerance then binds
+#: both ways (every point near the polygon, and the polygon near the points). A coarse
+#: B-spline's control points stand outside the curve where it turns sharply (a blade's
+#: trailing edge), and such a point, kept as a vertex, would put a spike beyond the shape.
+MAX_VERTEX_OFFSET = 1.0
 
 def point_parameters(points: FloatArray, pyramid: Pyramid) -> FloatArray:
     """Curve parameter of each data point: its projection on the finest control polygon.
@@ -262,6 +267,7 @@ def reconstruct_contour(pyramid: Pyramid, ordered: FloatArray, points: FloatArra
     fine_u = wavelets.greville(pyramid.finest, closed)[pyramid.fine_index]
     contour = _ContourData(points, params, ordered, fine_u, closed, tolerance)
     vertices, vparams = _assemble(gdl, ordered, fine_u, params[live], closed)
+    vertices, vparams = _near_curve(vertices, vparams, contour)
     vertices, vparams = _repair(contour, vertices, vparams)
     n_wavelet = len(vertices)
     # the ordered points join the candidates, so the choice is never worse than the best
@@ -302,6 +308,24 @@ def _assemble(gdl: list[Msc], ordered: FloatArray, fine_u: FloatArray, alive_u: 
     v, u = np.concatenate(pts), np.concatenate(us)
     order = np.argsort(np.mod(u, 1.0) if closed else u, kind="stable")
     return v[order], u[order]
+
+
+def _near_curve(vertices: FloatArray, vparams: FloatArray, c: _ContourData
+                ) -> tuple[FloatArray, FloatArray]:
+    """The vertices within `MAX_VERTEX_OFFSET` tolerances of the ordered curve (the repair
+    then restores the tolerance where one was dropped); the ordered points when too few are
+    left for a polygon."""
+    if len(c.ordered) < 2:
+        return vertices, vparams
+    near = polyline_distance(vertices, c.ordered, c.closed) <= (
+        MAX_VERTEX_OFFSET * c.tolerance * (1 + SLACK))
+    if near.all():
+        return vertices, vparams
+    if not c.closed:  # the ends interpolate the curve's ends
+        near[[0, -1]] = True
+    if near.sum() < (3 if c.closed else 2):
+        return c.ordered.copy(), c.fine_u.copy()
+    return vertices[near], vparams[near]
 
 
 def _gap_has_data(u: FloatArray, alive_u: FloatArray, gdl: list[Msc]) -> np.ndarray:

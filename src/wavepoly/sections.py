@@ -5,7 +5,10 @@ the slab's points spread over a band where the slab cuts a sloped surface, and a
 keeps every one of them within ε zigzags through that band. Instead, each point is moved
 *along the surface* to the mid-plane: its 3D neighbourhood gives the local tangent plane (the
 principal axes of the neighbourhood, whose smallest is the normal), and the point slides
-within that plane, along the steepest direction, until it reaches the mid-plane. On a vertical
+within that plane, along the steepest direction, until it reaches the mid-plane. The point is
+first projected onto its tangent plane (through the neighbourhood's centroid, as a moving
+least-squares surface does), which divides the scan's noise by about the root of the
+neighbourhood's size before the slide carries it into the plane. On a vertical
 wall it does not move sideways; on a slope of angle φ to the axis it moves by
 ``|Δh| · cot φ``; surfaces within `MIN_STEEPNESS` of lying in the plane give no points
 (their section would be placed no better than the noise times cot φ). A point is only
@@ -15,14 +18,17 @@ points, and nothing is extrapolated past an end of the object. Thus a band becom
 of points with the scan's noise, which the fit turns into the section within ε.
 
 This was chosen over weighting the points nearest to the mid-plane because it uses every
-point whose surface crosses the plane, corrects the first-order offset of sloped surfaces
-exactly, and needs no choice of a band width beyond the neighbourhood's own.
+point whose surface crosses the plane, corrects the first-order offset of sloped
+surfaces exactly, and needs no choice of a band width beyond the neighbourhood's own.
 
 References
 ----------
 .. [1] H. Hoppe, T. DeRose, T. Duchamp, J. McDonald and W. Stuetzle, "Surface reconstruction
    from unorganized points", SIGGRAPH 1992 (tangent planes from neighbourhood PCA).
-.. [2] Y. F. Wu, Y. S. Wong, H. T. Loh and Y. F. Zhang, "Modelling cloud data using an
+.. [2] M. Alexa, J. Behr, D. Cohen-Or, S. Fleishman, D. Levin and C. T. Silva, "Computing
+   and rendering point set surfaces", IEEE TVCG 9(1), 2003, pp. 3-15 (projection onto the
+   local least-squares plane).
+.. [3] Y. F. Wu, Y. S. Wong, H. T. Loh and Y. F. Zhang, "Modelling cloud data using an
    adaptive slicing approach", Computer-Aided Design 36(3), 2004, pp. 231-240.
 """
 
@@ -39,9 +45,13 @@ from .types import FloatArray, IntArray, SurfaceSamples
 SURFACE_NEIGHBOURS = 24
 #: Points whose normals are estimated together (bounds the memory of the neighbour arrays).
 CHUNK = 200_000
-#: A point slides to the mid-plane only if its neighbourhood reaches within this fraction of
-#: the neighbourhood's own height span of it: a small margin for the points' spacing.
-REACH_MARGIN = 0.5
+#: A point slides to the mid-plane only if its neighbourhood's heights reach within this
+#: fraction of their own span of it (a margin for the points' spacing on a steep wall)...
+REACH_MARGIN = 0.0
+#: ... and if the tangent plane is carried past the neighbourhood by at most this many radii
+#: in the plane: on a shallow surface a small height beyond the neighbourhood is a long slide,
+#: and such extrapolations put points 1.5-2.5 tolerances off the bunny's sections.
+SLIDE_BEYOND = 0.5
 #: Surfaces flatter than this to the plane (the sine of the normal's angle to the axis) give
 #: no section points: a height error e moves their section by e / tan(angle), so a face at
 #: 30 degrees to the plane places it only to 1.7 x the noise, and a face lying in the plane (a
@@ -57,6 +67,9 @@ NOISE_FLATNESS = 0.2
 FLATNESS_SAMPLE = 2000
 #: A cloud is never thinned below this many points (a small band keeps its points).
 MIN_NODES = 2000
+#: Ridge of the local quadric fits, relative to the trace of their normal equations: keeps a
+#: degenerate neighbourhood (collinear points) solvable without moving a regular one.
+QUADRIC_RIDGE = 1e-9
 #: Section end points closer than this (relative to the coordinates) are the same point.
 SNAP = 1e-9
 #: Neighbourhoods whose smallest principal variance exceeds this fraction of the middle one
@@ -124,7 +137,7 @@ def _planes(nodes: FloatArray, tree: cKDTree, which: IntArray, k: int
     planes at ``nodes[which]`` from their ``k`` nearest nodes."""
     n = len(which)
     normals = np.empty((n, 3))
-    low, high, radius, flatness = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
+    low, high, radius, flatness, offset = (np.empty(n) for _ in range(5))
     for start in range(0, n, CHUNK):
         stop = min(n, start + CHUNK)
         dist, idx = tree.query(nodes[which[start:stop]], k=k)
@@ -137,26 +150,50 @@ def _planes(nodes: FloatArray, tree: cKDTree, which: IntArray, k: int
         low[start:stop] = nbr[:, :, 2].min(axis=1)
         high[start:stop] = nbr[:, :, 2].max(axis=1)
         radius[start:stop] = dist[:, -1]
-    return normals, low, high, radius, flatness
+        offset[start:stop] = _quadric_offset(centred, nodes[which[start:stop]]
+                                             - nbr.mean(axis=1), vectors)
+    return normals, low, high, radius, flatness, offset
+
+
+def _quadric_offset(centred: FloatArray, own: FloatArray, axes: FloatArray) -> FloatArray:
+    """Each point's height above the least-squares quadric of its neighbourhood, along the
+    normal (``centred``: (n, k, 3) neighbours about their centroid; ``own``: (n, 3) the point
+    about it; ``axes``: principal axes, the normal first). A quadric rather than the plane, so
+    that projecting a point onto it removes the noise and not the curvature (the plane through
+    the centroid of a curved wall lies about r^2 / 6R inside it)."""
+    local = np.einsum("nki,nij->nkj", centred, axes)  # (normal, minor, major) coordinates
+    mine = np.einsum("ni,nij->nj", own, axes)
+
+    def design(xy):
+        x, y = xy[..., 2], xy[..., 1]
+        return np.stack([np.ones_like(x), x, y, x * x, x * y, y * y], axis=-1)
+
+    a = design(local)
+    gram = np.einsum("nki,nkj->nij", a, a)
+    gram += QUADRIC_RIDGE * np.einsum("nii->n", gram)[:, None, None] * np.eye(6)
+    coef = np.linalg.solve(gram, np.einsum("nki,nk->ni", a, local[..., 0])[..., None])[..., 0]
+    return mine[:, 0] - np.einsum("ni,ni->n", design(mine), coef)
 
 
 def section_points(surface: SurfaceSamples, rows: slice, z: float) -> FloatArray:
     """The points of ``surface[rows]`` slid along their tangent planes to the plane at height
     ``z``, as (m, 2) plane coordinates; points whose surface does not reach ``z`` are left out.
     """
-    uvh = surface.uvh[rows]
     n = surface.normals[rows]
+    uvh = surface.uvh[rows] - surface.offset[rows, None] * n  # onto the tangent plane
     dh = z - uvh[:, 2]
-    span = surface.high[rows] - surface.low[rows]
-    margin = REACH_MARGIN * np.maximum(span, surface.radius[rows])
-    reaches = (surface.low[rows] - margin <= z) & (z <= surface.high[rows] + margin)
     along = 1.0 - n[:, 2] ** 2  # squared sine of the normal's angle to the axis
+    span = surface.high[rows] - surface.low[rows]
+    radius = surface.radius[rows]
+    tan = np.sqrt(along) / np.maximum(np.abs(n[:, 2]), 1e-12)  # the surface's slope
+    margin = np.minimum(REACH_MARGIN * np.maximum(span, radius), SLIDE_BEYOND * radius * tan)
+    reaches = (surface.low[rows] - margin <= z) & (z <= surface.high[rows] + margin)
     steep = along >= MIN_STEEPNESS**2
     scale = np.divide(dh, along, out=np.zeros_like(dh), where=steep)
     shift = -scale[:, None] * n[:, 2:3] * n[:, :2]
     slide = np.hypot(shift[:, 0], shift[:, 1])
     planar = surface.flatness[rows] <= MAX_FLATNESS
-    keep = reaches & steep & planar & (slide <= MAX_SLIDE * surface.radius[rows])
+    keep = reaches & steep & planar & (slide <= MAX_SLIDE * radius)
     return uvh[keep, :2] + shift[keep]
 
 

@@ -14,7 +14,8 @@ class SurfaceSamples:
     uvh: (N, 3) plane coordinates and height, sorted by height; normals: (N, 3) unit normals
     of the local tangent planes; low, high: height range of each point's neighbourhood;
     radius: the neighbourhood's radius; flatness: its smallest principal variance over the
-    middle one (0 on a plane, larger across an edge).
+    middle one (0 on a plane, larger across an edge); offset: each point's signed distance
+    from its tangent plane (through its neighbourhood's centroid), along its normal.
     """
 
     uvh: FloatArray
@@ -23,6 +24,7 @@ class SurfaceSamples:
     high: FloatArray
     radius: FloatArray
     flatness: FloatArray
+    offset: FloatArray
 
 
 @dataclass(frozen=True)
