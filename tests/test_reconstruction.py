@@ -45,3 +45,27 @@ def test_points_outside_a_corner_get_distinct_ordered_parameters(closed):
     u = point_parameters(points, pyramid)
     assert len(np.unique(u)) == 3 and np.all(np.diff(u) > 0)
     assert np.ptp(u) < 1e-6
+
+
+@pytest.mark.parametrize("seed", [7, 11])
+def test_no_vertex_overshoots_a_thin_tip(seed):
+    """A blade section whose rounded trailing edge has no points (as where the slab's
+    neighbourhoods straddle the edge): a coarse B-spline's control points stand outside the
+    sharp turn, and one kept as a vertex put a spike 1.5-3 tolerances beyond the tip. The
+    tolerance binds both ways: every vertex lies within it of the points."""
+    import shapely
+
+    import wavepoly
+
+    rng = np.random.default_rng(seed)
+    s = np.linspace(0, 1, 800, endpoint=False)
+    x = 10 * np.cos(2 * np.pi * s)
+    y = (0.6 * np.sin(2 * np.pi * s) * (1 - 0.95 * np.cos(2 * np.pi * s) ** 16)
+         + 0.8 * (1 - (x / 10) ** 2))
+    keep = x < 9.5 + rng.uniform(-0.2, 0.2)
+    pts = np.column_stack([x, y])[keep] + rng.normal(scale=0.03, size=(keep.sum(), 2))
+    res = wavepoly.fit(pts, 0.25)
+    assert res.max_error <= 0.25 * (1 + 1e-9)
+    cloud = shapely.multipoints(pts)
+    for c in res.contours:
+        assert shapely.distance(shapely.points(c.vertices), cloud).max() <= 0.25

@@ -91,8 +91,8 @@ def test_mesh_section_of_a_box_is_its_rectangle():
     assert np.allclose(np.ptp(xy, axis=0), [4.0, 2.0])
 
 
-@pytest.mark.parametrize("name, axis, right", [("turbineblade.ply", "z", 0.8),
-                                               ("bunny_zipper.ply", "y", 0.3)])
+@pytest.mark.parametrize("name, axis, right", [("turbineblade.ply", "z", 0.95),
+                                               ("bunny_zipper.ply", "y", 0.85)])
 def test_uniform_layers_match_the_exact_sections(shared_data, name, axis, right):
     """Clouds sampled from the meshes' faces with noise 0.1 % of the diagonal, ε = 5 σ:
     each layer against the mesh's section at its mid-plane."""
@@ -106,11 +106,11 @@ def test_uniform_layers_match_the_exact_sections(shared_data, name, axis, right)
     assert all(r["valid"] for r in rows)
     assert np.mean([r["right"] for r in rows]) >= right
     hausdorff = np.array([r["hausdorff"] for r in rows])
-    assert np.median(hausdorff) <= 2.0
+    assert np.median(hausdorff) <= 1.2
     closed_truth = [r for r in rows if r["truth"] == 1]
-    assert np.mean([r["closed"] for r in closed_truth]) >= 0.85
+    assert np.mean([r["closed"] for r in closed_truth]) >= 0.95
     sym = np.array([r["sym_diff"] for r in closed_truth])
-    assert np.mean(sym < 1.0) >= 0.85
+    assert np.mean(sym < 1.0) >= 0.95
 
 
 def test_slicing_the_mesh_gives_exact_layers_and_one_printable_solid(shared_data, tmp_path):
@@ -150,3 +150,19 @@ def test_cli_slices_from_the_mesh_onto_the_build_plate(shared_data, tmp_path):
     doc = json.loads(report.read_text())
     assert doc["build_plate_offset"] == pytest.approx(-106.086, abs=0.01)
     assert all(layer["valid"] for layer in doc["per_layer"])
+
+
+def test_projection_onto_the_local_quadric_removes_noise_not_curvature():
+    """Each point is projected onto the least-squares quadric of its neighbourhood before it
+    slides: on a clean cylinder of radius 2 it does not move (the plane through the
+    neighbourhood's centroid lies r^2 / 6R = 0.006 inside), and at 0.01 noise it halves the
+    distance to the true wall."""
+    rng = np.random.default_rng(0)
+    t, h = rng.uniform(0, 2 * np.pi, 5000), rng.uniform(0, 4, 5000)
+    clean = np.column_stack([2 * np.cos(t), 2 * np.sin(t), h])
+    clean = clean[np.argsort(h)]
+    assert np.abs(surface_samples(clean).offset).max() < 1e-3
+    s = surface_samples(clean + rng.normal(scale=0.01, size=clean.shape))
+    projected = s.uvh - s.offset[:, None] * s.normals
+    raw_error = np.abs(np.hypot(*s.uvh[:, :2].T) - 2).mean()
+    assert np.abs(np.hypot(*projected[:, :2].T) - 2).mean() < 0.6 * raw_error

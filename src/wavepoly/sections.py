@@ -12,7 +12,7 @@ neighbourhood's size before the slide carries it into the plane. On a vertical
 wall it does not move sideways; on a slope of angle φ to the axis it moves by
 ``|Δh| · cot φ``; surfaces within `MIN_STEEPNESS` of lying in the plane give no points
 (their section would be placed no better than the noise times cot φ). A point is only
-moved where its own neighbourhood reaches the mid-plane (the surface it stands for is known
+moved where its own neighbourhood straddles the mid-plane (the surface it stands for is known
 there), so a cap or a ledge inside the slab that does not cross the mid-plane gives no section
 points, and nothing is extrapolated past an end of the object. Thus a band becomes a line
 of points with the scan's noise, which the fit turns into the section within ε.
@@ -45,13 +45,6 @@ from .types import FloatArray, IntArray, SurfaceSamples
 SURFACE_NEIGHBOURS = 24
 #: Points whose normals are estimated together (bounds the memory of the neighbour arrays).
 CHUNK = 200_000
-#: A point slides to the mid-plane only if its neighbourhood's heights reach within this
-#: fraction of their own span of it (a margin for the points' spacing on a steep wall)...
-REACH_MARGIN = 0.0
-#: ... and if the tangent plane is carried past the neighbourhood by at most this many radii
-#: in the plane: on a shallow surface a small height beyond the neighbourhood is a long slide,
-#: and such extrapolations put points 1.5-2.5 tolerances off the bunny's sections.
-SLIDE_BEYOND = 0.5
 #: Surfaces flatter than this to the plane (the sine of the normal's angle to the axis) give
 #: no section points: a height error e moves their section by e / tan(angle), so a face at
 #: 30 degrees to the plane places it only to 1.7 x the noise, and a face lying in the plane (a
@@ -183,11 +176,12 @@ def section_points(surface: SurfaceSamples, rows: slice, z: float) -> FloatArray
     uvh = surface.uvh[rows] - surface.offset[rows, None] * n  # onto the tangent plane
     dh = z - uvh[:, 2]
     along = 1.0 - n[:, 2] ** 2  # squared sine of the normal's angle to the axis
-    span = surface.high[rows] - surface.low[rows]
     radius = surface.radius[rows]
-    tan = np.sqrt(along) / np.maximum(np.abs(n[:, 2]), 1e-12)  # the surface's slope
-    margin = np.minimum(REACH_MARGIN * np.maximum(span, radius), SLIDE_BEYOND * radius * tan)
-    reaches = (surface.low[rows] - margin <= z) & (z <= surface.high[rows] + margin)
+    # only neighbourhoods that straddle the plane: one that stops short of it extrapolates its
+    # tangent plane, which on shallow surfaces put points 1.5-2.5 tolerances off the bunny's
+    # sections (a straddling neighbourhood still leaves the section points closer together
+    # than its radius, so nothing is lost but redundancy)
+    reaches = (surface.low[rows] <= z) & (z <= surface.high[rows])
     steep = along >= MIN_STEEPNESS**2
     scale = np.divide(dh, along, out=np.zeros_like(dh), where=steep)
     shift = -scale[:, None] * n[:, 2:3] * n[:, :2]
