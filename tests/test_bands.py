@@ -74,3 +74,26 @@ def test_error_jobs_give_the_staircase_error_of_the_whole_stack():
     got = [layer_error_job(j) for j in jobs]
     assert got == layer_errors(uvh, bottoms, bottoms + thick, contours)
     assert 0 < max(got) < 0.5  # at most half a layer on this slope
+
+
+def test_a_layer_of_open_pieces_between_closed_ones_keeps_the_nearer_neighbour():
+    """A ledge layer whose section gave only open pieces would cut the solid in two: it takes
+    the closed contours of the neighbour nearer to its pieces, and says so; its own section
+    points are outliers. An open layer with no closed neighbour stays as it is."""
+    from wavepoly.bands import held_over
+    from wavepoly.types import Contour, FitResult
+
+    def square(half):
+        v = half * np.array([[-1.0, -1], [1, -1], [1, 1], [-1, 1]])
+        return FitResult([Contour(v, True)], 0.1, 0.05, 0.02, np.array([], int), 40)
+
+    pieces = [Contour(np.array([[-2.0, -2.05], [2.0, -2.05], [2.0, 2.0]]), False)]
+    ledge = FitResult(pieces, 0.1, 0.05, 0.02, np.array([], int), 30, z=1.5)
+    below, above = square(2.0), square(1.0)
+    fits = held_over([below, ledge, above])
+    assert fits[0] is below and fits[2] is above
+    assert np.array_equal(fits[1].contours[0].vertices, below.contours[0].vertices)
+    assert fits[1].z == 1.5 and fits[1].n_points == 30 and len(fits[1].outliers) == 30
+    assert "layer below are kept" in fits[1].notes[-1]
+    alone = held_over([ledge, FitResult([], 0.1, 0, 0, np.array([], int), 0)])
+    assert alone[0] is ledge

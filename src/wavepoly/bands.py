@@ -21,7 +21,7 @@ import numpy as np
 
 from .errors import DataError
 from .fit import fit
-from .geometry import nest_contours, orient_by_depth
+from .geometry import nest_contours, orient_by_depth, polyline_distance
 from .polylines import close_gaps
 from .sections import SURFACE_NEIGHBOURS, section_points, surface_samples
 from .staircase import slab_errors
@@ -113,6 +113,39 @@ def _closed_up(res: FitResult, gap: float) -> FitResult:
     note = f"{bridges} gap(s) in the section bridged (up to {gap:.3g})"
     return replace(res, contours=orient_by_depth(contours, parents), parents=parents,
                    reports=[], validity=validity, notes=(*res.notes, note))
+
+
+def held_over(fits: list[FitResult]) -> list[FitResult]:
+    """The fits of a stack of layers, where a layer whose section gave only open pieces
+    (the plane nearly touches a face, as at a ledge, and the section is ill-posed there)
+    takes the closed contours of the neighbour nearer to those pieces: a layer model is a
+    solid, and an open layer would cut it in two. Its own section points are then outliers,
+    and the layer's staircase error says how far the kept contours are from its slab."""
+    def closed(f: FitResult) -> bool:
+        return bool(f.contours) and all(c.closed for c in f.contours)
+
+    out = list(fits)
+    for k, f in enumerate(fits):
+        if not f.contours or any(c.closed for c in f.contours):
+            continue
+        near = [j for j in (k - 1, k + 1) if 0 <= j < len(fits) and closed(fits[j])]
+        if not near:
+            continue
+        pieces = np.vstack([c.vertices for c in f.contours])
+        best = min(near, key=lambda j: _farthest(pieces, fits[j]))
+        note = (f"the section gave only open pieces ({len(f.contours)}): the plane nearly "
+                f"touches a face; the contours of the layer {'below' if best < k else 'above'}"
+                " are kept")
+        out[k] = replace(fits[best], z=f.z, outliers=np.arange(f.n_points), n_points=f.n_points,
+                         max_error=0.0, mean_error=0.0, reports=[], notes=(*f.notes, note),
+                         suggested_tolerance=None)
+    return out
+
+
+def _farthest(points: FloatArray, fit: FitResult) -> float:
+    """The largest distance of ``points`` to the contours of ``fit``."""
+    return float(np.min([polyline_distance(points, c.vertices, True) for c in fit.contours],
+                        axis=0).max())
 
 
 def layer_error_job(job: ErrorJob) -> float:

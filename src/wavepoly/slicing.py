@@ -40,6 +40,7 @@ from .bands import (
     band_of,
     fit_layer,
     fit_layer_job,
+    held_over,
     layer_error_job,
     layer_starts,
     max_gap,
@@ -141,7 +142,7 @@ def slice_cloud(points3d: FloatArray, tolerance: float, *, axis: str | FloatArra
                                _Bounds(tolerance, lo, hi, band, relative_tolerance), progress)
         bottoms = np.array([p[0] for p in plan])
         thick = np.array([p[1] for p in plan])
-        fits = [p[2] for p in plan]
+        fits = held_over([p[2] for p in plan])
         timings = {"planning": time.perf_counter() - t0, "fitting": 0.0}
         t0 = time.perf_counter()
         errors = layer_errors(uvh, bottoms, bottoms + thick, [f.contours for f in fits])
@@ -209,7 +210,7 @@ def fit_bands(specs: list[LayerSpec], run: Callable[[list[tuple[LayerSpec, int, 
         for k, res in zip(pending, run(tasks)):
             fits[k] = res
         pending, reach = [k for k in pending if fits[k] is None], 2 * reach
-    return fits  # type: ignore[return-value]
+    return held_over(fits)  # type: ignore[arg-type]
 
 
 def band_jobs(uvh: FloatArray, starts: IntArray, tasks: list[tuple[LayerSpec, int, int]]
