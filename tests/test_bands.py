@@ -76,10 +76,13 @@ def test_error_jobs_give_the_staircase_error_of_the_whole_stack():
     assert 0 < max(got) < 0.5  # at most half a layer on this slope
 
 
-def test_a_layer_of_open_pieces_between_closed_ones_keeps_the_nearer_neighbour():
+def test_a_layer_of_open_pieces_between_closed_ones_keeps_the_better_neighbour():
     """A ledge layer whose section gave only open pieces would cut the solid in two: it takes
-    the closed contours of the neighbour nearer to its pieces, and says so; its own section
-    points are outliers. An open layer with no closed neighbour stays as it is."""
+    the closed contours of the neighbour that give its slab the smaller staircase error, and
+    says so; its own section points are outliers. An open layer with no closed neighbour stays
+    as it is."""
+    from dataclasses import replace
+
     from wavepoly.bands import held_over
     from wavepoly.types import Contour, FitResult
 
@@ -89,11 +92,23 @@ def test_a_layer_of_open_pieces_between_closed_ones_keeps_the_nearer_neighbour()
 
     pieces = [Contour(np.array([[-2.0, -2.05], [2.0, -2.05], [2.0, 2.0]]), False)]
     ledge = FitResult(pieces, 0.1, 0.05, 0.02, np.array([], int), 30, z=1.5)
-    below, above = square(2.0), square(1.0)
-    fits = held_over([below, ledge, above])
-    assert fits[0] is below and fits[2] is above
-    assert np.array_equal(fits[1].contours[0].vertices, below.contours[0].vertices)
-    assert fits[1].z == 1.5 and fits[1].n_points == 30 and len(fits[1].outliers) == 30
-    assert "layer below are kept" in fits[1].notes[-1]
-    alone = held_over([ledge, FitResult([], 0.1, 0, 0, np.array([], int), 0)])
-    assert alone[0] is ledge
+    wide, narrow = square(2.0), square(1.0)
+    t = np.linspace(0, 2 * np.pi, 200, endpoint=False)
+    for r, kept in ((1.0, narrow), (2.0, wide)):  # the slab: the walls of one of them
+        slab = np.column_stack([r * np.sign(np.cos(t)), r * np.sin(t), 1.2 + 0.6 * t / 7])
+        asked = []
+
+        def errors_of(asks):  # only the ledge layer's slab holds points here
+            asked.extend(k for k, _ in asks)
+            return [layer_error_job(replace(job, slab=slab if k == 1 else np.empty((0, 3))))
+                    for k, job in asks]
+
+        fits = held_over([wide, ledge, narrow], np.array([0.0, 1, 2]), np.array([1.0, 2, 3]),
+                         errors_of)
+        assert sorted(set(asked)) == [0, 1, 2] and fits[0] is wide and fits[2] is narrow
+        assert np.array_equal(fits[1].contours[0].vertices, kept.contours[0].vertices)
+        assert fits[1].z == 1.5 and fits[1].n_points == 30 and len(fits[1].outliers) == 30
+        side = "below" if kept is wide else "above"
+        assert f"closed layer {side} are kept" in fits[1].notes[-1]
+    lone = [ledge, FitResult([], 0.1, 0, 0, np.array([], int), 0)]
+    assert held_over(lone, np.zeros(2), np.ones(2), errors_of)[0] is ledge

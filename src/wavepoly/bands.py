@@ -15,13 +15,14 @@ needs the contours of the layers next to it, known only once they are fitted.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import replace
 
 import numpy as np
 
 from .errors import DataError
 from .fit import fit
-from .geometry import nest_contours, orient_by_depth, polyline_distance
+from .geometry import nest_contours, orient_by_depth
 from .polylines import close_gaps
 from .sections import SURFACE_NEIGHBOURS, section_points, surface_samples
 from .staircase import slab_errors
@@ -115,37 +116,76 @@ def _closed_up(res: FitResult, gap: float) -> FitResult:
                    reports=[], validity=validity, notes=(*res.notes, note))
 
 
-def held_over(fits: list[FitResult]) -> list[FitResult]:
-    """The fits of a stack of layers, where a layer whose section gave only open pieces
-    (the plane nearly touches a face, as at a ledge, and the section is ill-posed there)
-    takes the closed contours of the neighbour nearer to those pieces: a layer model is a
-    solid, and an open layer would cut it in two. Its own section points are then outliers,
-    and the layer's staircase error says how far the kept contours are from its slab."""
-    def closed(f: FitResult) -> bool:
-        return bool(f.contours) and all(c.closed for c in f.contours)
+def held_over(fits: list[FitResult], bottoms: FloatArray, tops: FloatArray,
+              errors_of: Callable[[list[tuple[int, ErrorJob]]], list[float]]
+              ) -> list[FitResult]:
+    """The fits of a stack of layers, where layers whose sections gave only open pieces (the
+    plane nearly touches a face, as at a ledge, and the section is ill-posed there) take the
+    closed contours of a neighbour: a layer model is a solid, and an open layer would cut it
+    in two. A run of such layers between two closed ones is split where the staircase error
+    of the run and of the layers either side is smallest: the layers below the split take
+    the contours under the run, the others those over it (a ledge's top face is exposed only
+    where the layer over it is not a copy of it). Their own section points are then
+    outliers, and their staircase errors say how far the kept contours are.
 
+    ``errors_of`` computes the `ErrorJob` of each layer ``k`` (their slabs left empty: the caller
+    holds the points, or the workers do).
+    """
     out = list(fits)
-    for k, f in enumerate(fits):
-        if not f.contours or any(c.closed for c in f.contours):
+    for a, b in _open_runs(fits):
+        anchors = [j for j in (a - 1, b + 1) if 0 <= j < len(fits) and _closed(fits[j])]
+        if not anchors:
             continue
-        near = [j for j in (k - 1, k + 1) if 0 <= j < len(fits) and closed(fits[j])]
-        if not near:
-            continue
-        pieces = np.vstack([c.vertices for c in f.contours])
-        best = min(near, key=lambda j: _farthest(pieces, fits[j]))
-        note = (f"the section gave only open pieces ({len(f.contours)}): the plane nearly "
-                f"touches a face; the contours of the layer {'below' if best < k else 'above'}"
-                " are kept")
-        out[k] = replace(fits[best], z=f.z, outliers=np.arange(f.n_points), n_points=f.n_points,
-                         max_error=0.0, mean_error=0.0, reports=[], notes=(*f.notes, note),
-                         suggested_tolerance=None)
+        split = b if anchors == [a - 1] else a - 1  # with one anchor, every layer takes it
+        if len(anchors) == 2:
+            splits = list(range(a - 1, b + 1))
+            asks = [job for m in splits for job in _split_jobs(fits, a, b, m, bottoms, tops)]
+            errors = np.array(errors_of(asks)).reshape(len(splits), -1).max(axis=1)
+            split = splits[int(np.argmin(errors))]
+        for k in range(a, b + 1):
+            j = a - 1 if k <= split else b + 1
+            out[k] = _kept(fits[k], fits[j], "below" if j < k else "above")
     return out
 
 
-def _farthest(points: FloatArray, fit: FitResult) -> float:
-    """The largest distance of ``points`` to the contours of ``fit``."""
-    return float(np.min([polyline_distance(points, c.vertices, True) for c in fit.contours],
-                        axis=0).max())
+def _closed(f: FitResult) -> bool:
+    return bool(f.contours) and all(c.closed for c in f.contours)
+
+
+def _open_runs(fits: list[FitResult]) -> list[tuple[int, int]]:
+    """First and last index of each run of layers whose contours are all open."""
+    runs, start = [], None
+    for k, f in enumerate([*fits, None]):
+        only_open = f is not None and f.contours and not any(c.closed for c in f.contours)
+        if only_open and start is None:
+            start = k
+        elif not only_open and start is not None:
+            runs.append((start, k - 1))
+            start = None
+    return runs
+
+
+def _split_jobs(fits: list[FitResult], a: int, b: int, m: int, bottoms: FloatArray,
+                tops: FloatArray) -> list[tuple[int, ErrorJob]]:
+    """The error jobs of layers a-1 .. b+1 when layers a..m take the contours of layer a-1
+    and layers m+1..b those of layer b+1."""
+    def contours(i: int) -> list | None:
+        if not 0 <= i < len(fits):
+            return None
+        if a <= i <= b:
+            return fits[a - 1 if i <= m else b + 1].contours
+        return fits[i].contours
+
+    return [(i, ErrorJob(np.empty((0, 3)), float(bottoms[i]), float(tops[i]), contours(i),
+                         contours(i - 1), contours(i + 1))) for i in range(a - 1, b + 2)]
+
+
+def _kept(own: FitResult, neighbour: FitResult, where: str) -> FitResult:
+    note = (f"the section gave only open pieces ({len(own.contours)}): the plane nearly "
+            f"touches a face; the contours of the closed layer {where} are kept")
+    return replace(neighbour, z=own.z, outliers=np.arange(own.n_points), n_points=own.n_points,
+                   max_error=0.0, mean_error=0.0, reports=[], notes=(*own.notes, note),
+                   suggested_tolerance=None)
 
 
 def layer_error_job(job: ErrorJob) -> float:

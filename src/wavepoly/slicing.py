@@ -142,7 +142,9 @@ def slice_cloud(points3d: FloatArray, tolerance: float, *, axis: str | FloatArra
                                _Bounds(tolerance, lo, hi, band, relative_tolerance), progress)
         bottoms = np.array([p[0] for p in plan])
         thick = np.array([p[1] for p in plan])
-        fits = held_over([p[2] for p in plan])
+        fits = held_over([p[2] for p in plan], bottoms, bottoms + thick,
+                         lambda asks: [layer_error_job(replace(job, slab=_slab(uvh, job)))
+                                       for _, job in asks])
         timings = {"planning": time.perf_counter() - t0, "fitting": 0.0}
         t0 = time.perf_counter()
         errors = layer_errors(uvh, bottoms, bottoms + thick, [f.contours for f in fits])
@@ -157,6 +159,9 @@ def slice_cloud(points3d: FloatArray, tolerance: float, *, axis: str | FloatArra
         t0 = time.perf_counter()
         fits = fit_bands(specs, lambda tasks: run_jobs(
             fit_layer_job, band_jobs(uvh, starts, tasks), workers, progress))
+        fits = held_over(fits, bottoms, bottoms + thick, lambda asks: run_jobs(
+            layer_error_job, [replace(job, slab=uvh[starts[k]:starts[k + 1]])
+                              for k, job in asks], workers))
         timings["fitting"] = time.perf_counter() - t0
         t0 = time.perf_counter()
         errors = run_jobs(layer_error_job, error_jobs(
@@ -169,6 +174,11 @@ def slice_cloud(points3d: FloatArray, tolerance: float, *, axis: str | FloatArra
     return layer_model(bottoms, thick, fits, errors, counts,
                        SliceResult([], basis, tolerance, adaptive, len(pts), timings,
                                    engine=engine))
+
+
+def _slab(uvh: FloatArray, job: ErrorJob) -> FloatArray:
+    """The points of a cloud sorted by height within a job's slab."""
+    return uvh[slice(*np.searchsorted(uvh[:, 2], [job.bottom, job.top]))]
 
 
 def layer_model(bottoms: FloatArray, thick: FloatArray, fits: list[FitResult],
@@ -210,7 +220,7 @@ def fit_bands(specs: list[LayerSpec], run: Callable[[list[tuple[LayerSpec, int, 
         for k, res in zip(pending, run(tasks)):
             fits[k] = res
         pending, reach = [k for k in pending if fits[k] is None], 2 * reach
-    return held_over(fits)  # type: ignore[arg-type]
+    return fits  # type: ignore[return-value]
 
 
 def band_jobs(uvh: FloatArray, starts: IntArray, tasks: list[tuple[LayerSpec, int, int]]

@@ -29,7 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .bands import fit_layer_job, layer_error_job
+from .bands import fit_layer_job, held_over, layer_error_job
 from .errors import DataError, EngineError
 from .io.tiles import expand_sources, merge_layer, read_cloud, tile_layers, tile_summary
 from .slicing import (
@@ -161,7 +161,8 @@ def _slice_on(client, engine: dict, paths: list[Path], tolerance: float, step: f
                    for spec, first, stop in tasks]
         return _gathered(client, futures, progress, done, len(specs))
 
-    fits = fit_bands(specs, run)
+    fits = held_over(fit_bands(specs, run), bottoms, bottoms + thick, lambda asks: client.gather(
+        [client.submit(_error_of, job, layers[k], pure=False) for k, job in asks]))
     timings["fitting"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     jobs = error_jobs(specs, [f.contours for f in fits], lambda k: None)
