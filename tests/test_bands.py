@@ -98,7 +98,7 @@ def test_a_layer_of_open_pieces_between_closed_ones_keeps_the_better_neighbour()
         slab = np.column_stack([r * np.sign(np.cos(t)), r * np.sin(t), 1.2 + 0.6 * t / 7])
         asked = []
 
-        def errors_of(asks):  # only the ledge layer's slab holds points here
+        def errors_of(asks, slab=slab, asked=asked):  # only the ledge layer's slab has points
             asked.extend(k for k, _ in asks)
             return [layer_error_job(replace(job, slab=slab if k == 1 else np.empty((0, 3))))
                     for k, job in asks]

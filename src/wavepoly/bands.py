@@ -119,14 +119,15 @@ def _closed_up(res: FitResult, gap: float) -> FitResult:
 def held_over(fits: list[FitResult], bottoms: FloatArray, tops: FloatArray,
               errors_of: Callable[[list[tuple[int, ErrorJob]]], list[float]]
               ) -> list[FitResult]:
-    """The fits of a stack of layers, where layers whose sections gave only open pieces (the
+    """The fits of a stack of layers, where layers whose sections gave mostly open pieces (the
     plane nearly touches a face, as at a ledge, and the section is ill-posed there) take the
     closed contours of a neighbour: a layer model is a solid, and an open layer would cut it
     in two. A run of such layers between two closed ones is split where the staircase error
     of the run and of the layers either side is smallest: the layers below the split take
     the contours under the run, the others those over it (a ledge's top face is exposed only
-    where the layer over it is not a copy of it). Their own section points are then
-    outliers, and their staircase errors say how far the kept contours are.
+    where the layer over it is not a copy of it); a run at an end of the stack takes its
+    one neighbour's contours only where that lowers the error. Their own section points are
+    then outliers, and their staircase errors say how far the kept contours are.
 
     ``errors_of`` computes the `ErrorJob` of each layer ``k`` (their slabs left empty: the caller
     holds the points, or the workers do).
@@ -136,12 +137,15 @@ def held_over(fits: list[FitResult], bottoms: FloatArray, tops: FloatArray,
         anchors = [j for j in (a - 1, b + 1) if 0 <= j < len(fits) and _closed(fits[j])]
         if not anchors:
             continue
-        split = b if anchors == [a - 1] else a - 1  # with one anchor, every layer takes it
-        if len(anchors) == 2:
-            splits = list(range(a - 1, b + 1))
-            asks = [job for m in splits for job in _split_jobs(fits, a, b, m, bottoms, tops)]
-            errors = np.array(errors_of(asks)).reshape(len(splits), -1).max(axis=1)
-            split = splits[int(np.argmin(errors))]
+        if len(anchors) == 2:  # the run must not cut the solid: it is split between them
+            options: list[int | None] = list(range(a - 1, b + 1))
+        else:  # at an end of the stack: the anchor's contours, or the run as it is
+            options = [b if anchors == [a - 1] else a - 1, None]
+        asks = [job for m in options for job in _split_jobs(fits, a, b, m, bottoms, tops)]
+        errors = np.array(errors_of(asks)).reshape(len(options), -1).max(axis=1)
+        split = options[int(np.argmin(errors))]
+        if split is None:
+            continue
         for k in range(a, b + 1):
             j = a - 1 if k <= split else b + 1
             out[k] = _kept(fits[k], fits[j], "below" if j < k else "above")
@@ -149,14 +153,26 @@ def held_over(fits: list[FitResult], bottoms: FloatArray, tops: FloatArray,
 
 
 def _closed(f: FitResult) -> bool:
-    return bool(f.contours) and all(c.closed for c in f.contours)
+    """Can the layer lend its contours: a solid section (closed contours, not broken)?"""
+    return any(c.closed for c in f.contours) and not _broken(f)
+
+
+def _broken(f: FitResult) -> bool:
+    """Does the layer's section stand for no solid: open pieces longer than its closed
+    contours (a few fragments closed by chance among them do not make it one)?"""
+    def length(c) -> float:
+        v = np.vstack([c.vertices, c.vertices[:1]]) if c.closed else c.vertices
+        return float(np.linalg.norm(np.diff(v, axis=0), axis=1).sum())
+
+    opened = sum(length(c) for c in f.contours if not c.closed)
+    return opened > 0 and opened > sum(length(c) for c in f.contours if c.closed)
 
 
 def _open_runs(fits: list[FitResult]) -> list[tuple[int, int]]:
-    """First and last index of each run of layers whose contours are all open."""
+    """First and last index of each run of broken layers (`_broken`)."""
     runs, start = [], None
     for k, f in enumerate([*fits, None]):
-        only_open = f is not None and f.contours and not any(c.closed for c in f.contours)
+        only_open = f is not None and _broken(f)
         if only_open and start is None:
             start = k
         elif not only_open and start is not None:
@@ -165,23 +181,25 @@ def _open_runs(fits: list[FitResult]) -> list[tuple[int, int]]:
     return runs
 
 
-def _split_jobs(fits: list[FitResult], a: int, b: int, m: int, bottoms: FloatArray,
+def _split_jobs(fits: list[FitResult], a: int, b: int, m: int | None, bottoms: FloatArray,
                 tops: FloatArray) -> list[tuple[int, ErrorJob]]:
     """The error jobs of layers a-1 .. b+1 when layers a..m take the contours of layer a-1
-    and layers m+1..b those of layer b+1."""
+    and layers m+1..b those of layer b+1 (m None: the layers as they are)."""
     def contours(i: int) -> list | None:
         if not 0 <= i < len(fits):
             return None
-        if a <= i <= b:
+        if m is not None and a <= i <= b:
             return fits[a - 1 if i <= m else b + 1].contours
         return fits[i].contours
 
     return [(i, ErrorJob(np.empty((0, 3)), float(bottoms[i]), float(tops[i]), contours(i),
-                         contours(i - 1), contours(i + 1))) for i in range(a - 1, b + 2)]
+                         contours(i - 1), contours(i + 1)))
+            for i in range(max(a - 1, 0), min(b + 2, len(fits)))]
 
 
 def _kept(own: FitResult, neighbour: FitResult, where: str) -> FitResult:
-    note = (f"the section gave only open pieces ({len(own.contours)}): the plane nearly "
+    n_open = sum(not c.closed for c in own.contours)
+    note = (f"the section gave mostly open pieces ({n_open}): the plane nearly "
             f"touches a face; the contours of the closed layer {where} are kept")
     return replace(neighbour, z=own.z, outliers=np.arange(own.n_points), n_points=own.n_points,
                    max_error=0.0, mean_error=0.0, reports=[], notes=(*own.notes, note),

@@ -6,12 +6,15 @@ keeps every one of them within ε zigzags through that band. Instead, each point
 *along the surface* to the mid-plane: its 3D neighbourhood gives the local tangent plane (the
 principal axes of the neighbourhood, whose smallest is the normal), and the point slides
 within that plane, along the steepest direction, until it reaches the mid-plane. The point is
-first projected onto its tangent plane (through the neighbourhood's centroid, as a moving
-least-squares surface does), which divides the scan's noise by about the root of the
-neighbourhood's size before the slide carries it into the plane. On a vertical
-wall it does not move sideways; on a slope of angle φ to the axis it moves by
-``|Δh| · cot φ``; surfaces within `MIN_STEEPNESS` of lying in the plane give no points
-(their section would be placed no better than the noise times cot φ). A point is only
+first projected onto the local quadric of its neighbourhood (a moving least-squares surface),
+which divides the scan's noise by about the root of the neighbourhood's size before the slide
+carries it into the plane. On a vertical wall it does not move sideways; on a slope of angle
+φ to the axis it moves by ``|Δh| · cot φ``. Where the tangent plane lies within
+`MIN_STEEPNESS` of the plane, its tilt is about the noise's, and the section would be placed no
+better than the noise times cot φ: there the surface is fitted again as a height field over
+`WIDE_FACTOR` times the neighbours, and gives points only where its slope stands
+`MIN_SLOPE_SCORE` standard errors out of the noise (a dome's shallow crossing, not a face
+lying in the plane), and only a short way. A point is only
 moved where its own neighbourhood straddles the mid-plane (the surface it stands for is known
 there), so a cap or a ledge inside the slab that does not cross the mid-plane gives no section
 points, and nothing is extrapolated past an end of the object. Thus a band becomes a line
@@ -63,6 +66,20 @@ MIN_NODES = 2000
 #: Ridge of the local quadric fits, relative to the trace of their normal equations: keeps a
 #: degenerate neighbourhood (collinear points) solvable without moving a regular one.
 QUADRIC_RIDGE = 1e-9
+#: A shallow surface is fitted again over this many times the neighbours: its slope is small
+#: beside the noise, and the wider fit's slope error is several times smaller.
+WIDE_FACTOR = 4
+#: Shallow points fitted together (bounds the memory of the wide neighbourhoods' arrays).
+WIDE_CHUNK = 20_000
+#: A shallow surface gives section points only where its slope is this many standard errors
+#: from 0: the noise tilts a flat face's fitted slope by about one, and a cap that lies in
+#: the plane must give no section (a slope of 5 errors arises from noise once in 10^5 points).
+MIN_SLOPE_SCORE = 5.0
+#: Largest slide of a shallow point, in its (wider) neighbourhood's radii.
+MAX_SHALLOW_SLIDE = 1.0
+#: A shallow point's height field whose residual variance exceeds this many times the median
+#: of all shallow points' spans an edge (a cap and a wall), and gives no section point.
+EDGE_RESIDUAL = 4.0
 #: Section end points closer than this (relative to the coordinates) are the same point.
 SNAP = 1e-9
 #: Neighbourhoods whose smallest principal variance exceeds this fraction of the middle one
@@ -97,7 +114,8 @@ def surface_samples(uvh: FloatArray, k: int = SURFACE_NEIGHBOURS,
     own = np.arange(len(uvh))[rows if rows is not None else slice(None)]
     own = own[own % step == 0] // step
     planes = _planes(nodes, tree, own, min(k, len(nodes)))
-    return SurfaceSamples(nodes[own], *planes)
+    score = _refine_shallow(nodes, tree, own, planes, min(WIDE_FACTOR * k, len(nodes)))
+    return SurfaceSamples(nodes[own], *planes, score)
 
 
 def node_step(uvh: FloatArray, k: int = SURFACE_NEIGHBOURS) -> tuple[int, cKDTree]:
@@ -148,6 +166,50 @@ def _planes(nodes: FloatArray, tree: cKDTree, which: IntArray, k: int
     return normals, low, high, radius, flatness, offset
 
 
+def _refine_shallow(nodes: FloatArray, tree: cKDTree, which: IntArray,
+                    planes: tuple[FloatArray, ...], k: int) -> FloatArray:
+    """Where the tangent plane is shallow (within `MIN_STEEPNESS` of the slicing plane), fit
+    the surface again as a height field over the plane, a quadric over ``k`` neighbours, and
+    put its normal, offset, height range and radius in ``planes`` (in place). Returns each
+    point's slope over its standard error there (inf elsewhere): a surface is known to cross
+    a plane at a shallow angle only when its slope stands out of the noise."""
+    normals, low, high, radius, _, offset = planes
+    score = np.full(len(which), np.inf)
+    shallow = np.flatnonzero(1.0 - normals[:, 2] ** 2 < MIN_STEEPNESS**2)
+    if k <= 6 or not len(shallow):
+        return score
+    residual = np.empty(len(shallow))
+    for start in range(0, len(shallow), WIDE_CHUNK):
+        rows = shallow[start:start + WIDE_CHUNK]
+        dist, idx = tree.query(nodes[which[rows]], k=k)
+        nbr = nodes[idx]
+        rel = nbr - nodes[which[rows]][:, None, :]
+        u, v, h = rel[..., 0], rel[..., 1], rel[..., 2]
+        a = np.stack([np.ones_like(u), u, v, u * u, u * v, v * v], axis=-1)
+        gram = np.einsum("nki,nkj->nij", a, a)
+        gram += QUADRIC_RIDGE * np.einsum("nii->n", gram)[:, None, None] * np.eye(6)
+        inverse = np.linalg.inv(gram)  # 6 x 6 per point
+        coef = np.einsum("nij,nkj,nk->ni", inverse, a, h)
+        resid = h - np.einsum("nki,ni->nk", a, coef)
+        noise = np.einsum("nk,nk->n", resid, resid) / (k - 6)
+        grad = coef[:, 1:3]
+        slope = np.hypot(grad[:, 0], grad[:, 1])
+        along = grad / np.maximum(slope, 1e-300)[:, None]
+        var = noise * np.einsum("ni,nij,nj->n", along, inverse[:, 1:3, 1:3], along)
+        score[rows] = slope / np.sqrt(np.maximum(var, 1e-300))
+        score[rows[slope > np.tan(np.arcsin(MIN_STEEPNESS))]] = 0.0  # steep: not one surface
+        residual[start:start + WIDE_CHUNK] = noise
+        norm = np.sqrt(1.0 + slope**2)
+        normals[rows] = np.column_stack([-grad, np.ones(len(rows))]) / norm[:, None]
+        offset[rows] = -coef[:, 0] / norm
+        low[rows], high[rows] = nbr[:, :, 2].min(axis=1), nbr[:, :, 2].max(axis=1)
+        radius[rows] = dist[:, -1]
+    # a height field that fits far worse than the shallow surfaces' typical one spans an edge
+    # (a cap and the wall under it): its slope is the edge's, not a surface's
+    score[shallow[residual > EDGE_RESIDUAL * np.median(residual)]] = 0.0
+    return score
+
+
 def _quadric_offset(centred: FloatArray, own: FloatArray, axes: FloatArray) -> FloatArray:
     """Each point's height above the least-squares quadric of its neighbourhood, along the
     normal (``centred``: (n, k, 3) neighbours about their centroid; ``own``: (n, 3) the point
@@ -182,12 +244,14 @@ def section_points(surface: SurfaceSamples, rows: slice, z: float) -> FloatArray
     # sections (a straddling neighbourhood still leaves the section points closer together
     # than its radius, so nothing is lost but redundancy)
     reaches = (surface.low[rows] <= z) & (z <= surface.high[rows])
-    steep = along >= MIN_STEEPNESS**2
+    steep = (along >= MIN_STEEPNESS**2) | (surface.slope_score[rows] >= MIN_SLOPE_SCORE)
     scale = np.divide(dh, along, out=np.zeros_like(dh), where=steep)
     shift = -scale[:, None] * n[:, 2:3] * n[:, :2]
     slide = np.hypot(shift[:, 0], shift[:, 1])
     planar = surface.flatness[rows] <= MAX_FLATNESS
-    keep = reaches & steep & planar & (slide <= MAX_SLIDE * radius)
+    # a shallow surface curves away from its tangent plane sooner (it turns to a wall)
+    reach = np.where(np.isfinite(surface.slope_score[rows]), MAX_SHALLOW_SLIDE, MAX_SLIDE)
+    keep = reaches & steep & planar & (slide <= reach * radius)
     return uvh[keep, :2] + shift[keep]
 
 

@@ -15,7 +15,9 @@ class SurfaceSamples:
     of the local tangent planes; low, high: height range of each point's neighbourhood;
     radius: the neighbourhood's radius; flatness: its smallest principal variance over the
     middle one (0 on a plane, larger across an edge); offset: each point's signed distance
-    from its tangent plane (through its neighbourhood's centroid), along its normal.
+    from its tangent plane (through its neighbourhood's centroid), along its normal;
+    slope_score: where the surface is shallow, its slope over the slope's standard error
+    (from a wider neighbourhood, which then also gives the other fields); inf where steep.
     """
 
     uvh: FloatArray
@@ -25,6 +27,7 @@ class SurfaceSamples:
     radius: FloatArray
     flatness: FloatArray
     offset: FloatArray
+    slope_score: FloatArray
 
 
 @dataclass(frozen=True)
