@@ -112,3 +112,5 @@ def test_a_layer_of_open_pieces_between_closed_ones_keeps_the_better_neighbour()
         assert f"closed layer {side} are kept" in fits[1].notes[-1]
     lone = [ledge, FitResult([], 0.1, 0, 0, np.array([], int), 0)]
     assert held_over(lone, np.zeros(2), np.ones(2), errors_of)[0] is ledge
+    gap = [wide, ledge, ledge, ledge, narrow]  # three broken layers: a gap in the scan
+    assert held_over(gap, np.arange(5.0), np.arange(1.0, 6), errors_of)[1:4] == [ledge] * 3

@@ -36,6 +36,9 @@ MIN_SECTION_POINTS = 8
 #: surface is nearly in the plane leave gaps of about a layer's thickness.
 GAP_LAYERS = 1.0
 GAP_TOLERANCES = 4.0
+#: Longest run of broken layers held over from their neighbours: a plane nearly touching a
+#: face breaks a layer or two; a longer run is a gap in the scan, which a copy would hide.
+MAX_HELD_RUN = 2
 
 
 def max_gap(thickness: float, tolerance: float) -> float:
@@ -125,7 +128,8 @@ def held_over(fits: list[FitResult], bottoms: FloatArray, tops: FloatArray,
     in two. A run of such layers between two closed ones is split where the staircase error
     of the run and of the layers either side is smallest: the layers below the split take
     the contours under the run, the others those over it (a ledge's top face is exposed only
-    where the layer over it is not a copy of it); a run at an end of the stack takes its
+    where the layer over it is not a copy of it); runs longer than `MAX_HELD_RUN` are left
+    as they are (a gap in the scan, not a face); a run at an end of the stack takes its
     one neighbour's contours only where that lowers the error. Their own section points are
     then outliers, and their staircase errors say how far the kept contours are.
 
@@ -134,6 +138,8 @@ def held_over(fits: list[FitResult], bottoms: FloatArray, tops: FloatArray,
     """
     out = list(fits)
     for a, b in _open_runs(fits):
+        if b - a + 1 > MAX_HELD_RUN:
+            continue
         anchors = [j for j in (a - 1, b + 1) if 0 <= j < len(fits) and _closed(fits[j])]
         if not anchors:
             continue
