@@ -254,6 +254,10 @@ def reconstruct_contour(pyramid: Pyramid, ordered: FloatArray, points: FloatArra
     closed = pyramid.closed
     level = pyramid.coarsest if start_level is None else start_level
     params = point_parameters(points, pyramid)
+    # in parameter order from here on (the result holds no per-point arrays): the sorts and
+    # searches of the selection then run over sorted data
+    by_param = np.argsort(params, kind="stable")
+    points, params = points[by_param], params[by_param]
     live = np.arange(len(points))  # the working set of data points (eq. 10 deletes from it)
     gdl: list[Msc] = []
     coeffs = pyramid.coefficients[level]

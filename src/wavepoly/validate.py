@@ -54,18 +54,19 @@ def validate_points(points: object, *, source: str = "points", min_points: int =
         raise DataError(f"{source}: expected an (N, 2) or (N, 3) array, got shape {arr.shape}")
     if len(arr) == 0:
         raise DataError(f"{source}: contains no points")
-    bad = ~np.isfinite(arr).all(axis=1)
-    if bad.any():
+    low, high = arr.min(axis=0), arr.max(axis=0)  # NaN propagates into both
+    if not (np.isfinite(low).all() and np.isfinite(high).all()):
+        bad = ~np.isfinite(arr).all(axis=1)
         first = int(np.flatnonzero(bad)[0])
         raise DataError(f"{source}: {int(bad.sum())} point(s) have NaN or infinite coordinates "
                         f"(first at row {first})")
     if len(arr) < min_points:
         raise DataError(f"{source}: only {len(arr)} point(s); at least {min_points} are needed")
-    big = np.abs(arr).max()
+    big = max(np.abs(low).max(), np.abs(high).max())
     if big > MAX_COORDINATE:
         raise DataError(f"{source}: coordinates as large as {big:.3g}; distances between "
                         f"them would overflow (at most {MAX_COORDINATE:g} is accepted)")
-    if np.ptp(arr, axis=0).max() == 0.0:
+    if (high - low).max() == 0.0:
         raise DataError(f"{source}: all {len(arr)} points are identical")
     return np.ascontiguousarray(arr)
 
