@@ -194,3 +194,24 @@ def test_a_shallow_dome_gives_its_ring_and_a_face_in_the_plane_none():
     face = face[np.argsort(face[:, 2])]
     flat = surface_samples(face)
     assert len(section_points(flat, slice(None), 0.0)) < 0.001 * n
+
+
+def test_strays_leave_the_section_and_corners_stay():
+    """A slide gone wrong puts a few section points off the line of their neighbours (the
+    bunny's tail: a spike of 1.7 tolerances); they are dropped, and the points of a square's
+    sharp corners, off no line of their own neighbours, are kept."""
+    from wavepoly.sections import _without_strays
+
+    rng = np.random.default_rng(6)
+    s = rng.uniform(0, 4, 4000)
+    side = np.floor(s).astype(int)
+    f = s - side
+    corners = np.array([[0.0, 0], [1, 0], [1, 1], [0, 1], [0, 0]])
+    square = corners[side] + f[:, None] * (corners[side + 1] - corners[side])
+    square += rng.normal(scale=0.002, size=square.shape)
+    strays = np.array([[0.5, 0.03], [0.52, 0.035], [0.3, 0.97]])
+    kept = _without_strays(np.vstack([square, strays]))
+    assert not any(np.any(np.all(kept == p, axis=1)) for p in strays)
+    assert len(kept) >= 0.97 * len(square)
+    for c in corners[:4]:  # each corner keeps its nearest points
+        assert np.min(np.hypot(*(kept - c).T)) < 0.01

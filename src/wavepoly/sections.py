@@ -80,6 +80,11 @@ MAX_SHALLOW_SLIDE = 1.0
 #: A shallow point's height field whose residual variance exceeds this many times the median
 #: of all shallow points' spans an edge (a cap and a wall), and gives no section point.
 EDGE_RESIDUAL = 4.0
+#: Section points whose line is fitted to decide whether one is a stray.
+STRAY_NEIGHBOURS = 64
+#: A section point this many times farther off its neighbours' line than their median is a
+#: stray (a slide that went wrong), not the section.
+STRAY_FACTOR = 4.0
 #: Section end points closer than this (relative to the coordinates) are the same point.
 SNAP = 1e-9
 #: Neighbourhoods whose smallest principal variance exceeds this fraction of the middle one
@@ -252,7 +257,24 @@ def section_points(surface: SurfaceSamples, rows: slice, z: float) -> FloatArray
     # a shallow surface curves away from its tangent plane sooner (it turns to a wall)
     reach = np.where(np.isfinite(surface.slope_score[rows]), MAX_SHALLOW_SLIDE, MAX_SLIDE)
     keep = reaches & steep & planar & (slide <= reach * radius)
-    return uvh[keep, :2] + shift[keep]
+    return _without_strays(uvh[keep, :2] + shift[keep])
+
+
+def _without_strays(xy: FloatArray) -> FloatArray:
+    """The section points less those far off the line of their nearest section points."""
+    k = STRAY_NEIGHBOURS
+    if len(xy) <= k:
+        return xy
+    _, idx = cKDTree(xy).query(xy, k=k)
+    nbr = xy[idx]
+    centred = nbr - nbr.mean(axis=1, keepdims=True)
+    cov = np.einsum("nki,nkj->nij", centred, centred)
+    _, vectors = np.linalg.eigh(cov)
+    normal = vectors[:, :, 0]
+    off = np.abs(np.einsum("nki,ni->nk", centred, normal))
+    own = off[:, 0]
+    typical = np.median(off, axis=1)
+    return xy[~(own > STRAY_FACTOR * np.maximum(typical, 1e-300))]
 
 
 def mesh_section(mesh, basis: FloatArray, z: float) -> list[tuple[FloatArray, bool]]:
