@@ -267,3 +267,27 @@ def test_dense_scans_are_summarized_by_cell_atoms(noise):
                for c in ordering.contours) >= 0.99
     assert len(ordering.outliers) <= 0.001 * len(pts)
     check_coverage(pts, ordering)
+
+
+def test_a_sparse_sample_is_a_curve_not_noise():
+    """A toothed curve sampled far more sparsely than the tolerance (as a crust test set:
+    spacing 3, tolerance 0.02): the widened neighbourhoods hold a few points, whose spread is the
+    curve's turns. Counted as noise, it widened them 4-fold and put 22 % of the crocodile's
+    points out as outliers; now no point is an outlier and no noise is claimed."""
+    t = np.linspace(0, 2 * np.pi, 90, endpoint=False)
+    teeth = np.where(np.arange(90) % 2 == 0, 3.0, -3.0)  # a jaw's teeth: in, out, in...
+    r = 40 + 8 * np.cos(3 * t) + np.where(t < np.pi, teeth, 0.0)
+    pts = np.column_stack([r * np.cos(t), r * np.sin(t)])
+    res = order_points(pts, 0.02)
+    assert len(res.contours) == 1 and res.contours[0].closed
+    assert len(res.outliers) == 0 and res.noise == 0.0
+
+
+def test_the_shared_crocodile_keeps_every_point(shared_data):
+    import wavepoly
+
+    path = shared_data / "curves2d" / "hnn_crust" / "crocodile-conf.p2d"
+    pts = wavepoly.as_planar(wavepoly.read_points(path))
+    res = wavepoly.fit(pts, 0.02)
+    assert len(res.outliers) == 0 and [c.closed for c in res.contours] == [True]
+    assert res.validity.valid and res.suggested_tolerance is None

@@ -48,6 +48,11 @@ MERGE_KURTOSIS = 1.5
 #: points along the curve to give a tangent; a smaller radius is widened, with a note.
 SPACINGS_PER_RADIUS = 3.0
 
+#: A radius widened by more than this factor for the point spacing marks a sparse sample
+#: (a crust test set: 129 points at 0.02): its neighbourhoods hold a few points, and the
+#: scatter they measure is the curve's turns, not noise.
+SPARSE_WIDENING = 2.0
+
 __all__ = ["curve_spacing", "median_spacing", "order_points"]
 
 
@@ -76,7 +81,7 @@ def order_points(points: FloatArray, radius: float, *, seed: int = 0, min_points
     (1, True, 0)
     """
     pts = validate_points(points, source="points")[:, :2]
-    radius = check_tolerance(radius, "radius")
+    radius = given = check_tolerance(radius, "radius")
     notes = []
     spacing = spacing_bound(pts, seed)
     if spacing > radius / SPACINGS_PER_RADIUS:
@@ -87,7 +92,8 @@ def order_points(points: FloatArray, radius: float, *, seed: int = 0, min_points
                      f"along the curves ({spacing:.4g}) is more than a third of it")
         radius = new_radius
     rng = np.random.default_rng(seed)
-    nodes, atoms = noise_adaptive_nodes(pts, radius)
+    sparse = radius > SPARSE_WIDENING * given
+    nodes, atoms = noise_adaptive_nodes(pts, radius, sparse)
     if nodes.reach > radius:
         notes.append(f"noisy scan (scatter {nodes.noise:.3g} about the curves): neighbourhoods "
                      f"widened from {radius:.4g} to {nodes.reach:.4g} to follow the curves")

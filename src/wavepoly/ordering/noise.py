@@ -38,18 +38,21 @@ NOISE_SEEDS = 2000
 REGRESSION_PASSES = 3
 
 
-def noise_adaptive_nodes(pts: FloatArray, radius: float) -> tuple[Nodes, Atoms]:
+def noise_adaptive_nodes(pts: FloatArray, radius: float, sparse: bool = False
+                         ) -> tuple[Nodes, Atoms]:
     """Centroid and principal axes of the neighbourhood of each occupied cell of radius / 2,
     and the atoms they were summed over.
 
     The neighbourhoods have the fixed ``radius``, or on a noisy scan `NOISE_REACH` x the noise
     level (up to `MAX_REACH` x radius), so that they stay longer along the curve than across it.
+    A ``sparse`` sample (its radius set by the point spacing, not the tolerance) has no
+    measurable noise: a window of a few points measures the curve's turns.
     """
     atoms = cell_atoms(pts, radius)
     inverse, counts = cells(atoms.cell // (ATOM_DIVISIONS // 2), atoms.weight)  # radius / 2
     xy = np.column_stack([np.bincount(inverse, atoms.weight * atoms.xy[:, k])
                           for k in range(2)]) / counts[:, None]
-    noise = noise_level(xy, atoms, radius)
+    noise = 0.0 if sparse else noise_level(xy, atoms, radius)
     reach = min(max(radius, NOISE_REACH * noise), MAX_REACH * radius)
     if reach > radius:  # coarser atoms keep the wider neighbourhoods' sums cheap
         atoms = cell_atoms(pts, reach, min_per_cell=1.0)
