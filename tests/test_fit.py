@@ -212,3 +212,17 @@ def test_pieces_of_a_split_contour_share_its_points_in_the_summary_and_the_mean(
     assert sum("a piece of contour" in ln for ln in lines) == len(pieces) - 2
     counted = [ln for ln in lines if " points -> " in ln and ln.startswith("contour")]
     assert sum(int(ln.split()[3]) for ln in counted) == 800  # each input point counted once
+
+
+def test_a_tolerance_below_the_spacing_says_so_and_suggests_one():
+    """Points 0.5 apart fitted at 0.05: every point is a vertex, which the tolerance forces;
+    the fit says why and suggests twice the spacing, which simplifies the curve."""
+    import wavepoly
+
+    t = np.linspace(0, 2 * np.pi, 120, endpoint=False)
+    pts = np.column_stack([10 * np.cos(t), 10 * np.sin(t)])  # spacing 0.52
+    tight = wavepoly.fit(pts, 0.05)
+    assert tight.suggested_tolerance == pytest.approx(1.0, rel=0.1)
+    assert any("below the point spacing" in n for n in tight.notes)
+    loose = wavepoly.fit(pts, tight.suggested_tolerance)
+    assert loose.suggested_tolerance is None and loose.n_vertices < tight.n_vertices / 2

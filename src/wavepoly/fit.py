@@ -19,7 +19,7 @@ import shapely
 from .errors import ParameterError
 from .geometry import nest_contours, orient_by_depth, polyline_distance
 from .levels import decompose_contour
-from .ordering import order_points
+from .ordering import SPACINGS_PER_RADIUS, order_points
 from .reconstruction import reconstruct_contour
 from .types import (
     DEFAULT_RELATIVE_TOLERANCE,
@@ -44,6 +44,9 @@ NOISE_NOTE = 2.0
 #: scatter is measured over a few radii, so it grows a little with the tolerance; the gap
 #: between the two factors keeps a suggested tolerance from drawing a new suggestion.)
 NOISE_MARGIN = 3.0
+#: A tolerance below the point spacing along the curves makes nearly every point a vertex:
+#: the fit says so and suggests this many spacings (as ``wavepoly info`` does).
+SPACING_MARGIN = 2.0
 
 
 def fit(points: FloatArray, tolerance: float, *,
@@ -118,6 +121,12 @@ def fit(points: FloatArray, tolerance: float, *,
         notes.append(f"the tolerance {tolerance:.4g} is below {NOISE_NOTE:g} x the scatter "
                      f"about the curves ({ordering.noise:.3g}): curves follow the noise and "
                      f"noisy points fall outside; a tolerance of {suggested:g} gives clean curves")
+    spacing = ordering.radius / SPACINGS_PER_RADIUS  # the radius was widened to 3 spacings
+    if suggested is None and tolerance < spacing:
+        suggested = float(f"{SPACING_MARGIN * spacing:.2g}")
+        notes.append(f"the tolerance {tolerance:.4g} is below the point spacing along the "
+                     f"curves ({spacing:.3g}): the polygons pass through nearly every point; a "
+                     f"tolerance of {suggested:g} simplifies them")
     return FitResult(contours, tolerance, float(errors.max()), float(mean), ordering.outliers,
                      len(pts), parents, reports, timings, tuple(notes), validity=validity,
                      suggested_tolerance=suggested)

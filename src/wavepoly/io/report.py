@@ -63,7 +63,7 @@ def fit_summary(result: FitResult) -> list[str]:
     lines.append(f"{result.n_points} points -> {len(result.contours)} contours ({shape}), "
                  f"{result.n_vertices} vertices, max error {result.max_error:.4g} "
                  f"(tolerance {result.tolerance:.4g}), {len(result.outliers)} outliers"
-                 + (f"; the tolerance is below the scan's scatter: try "
+                 + (f"; the tolerance is below the scan's scatter or spacing: try "
                     f"{result.suggested_tolerance:g}" if result.suggested_tolerance else ""))
     lines += [f"note: {note}" for note in result.notes]
     return lines

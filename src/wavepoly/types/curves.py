@@ -180,8 +180,8 @@ class FitResult:
     reports: per-contour figures; timings: seconds per stage; notes: remarks of the stages.
     validity: the geometry check (`wavepoly.validity.check_contours`).
     suggested_tolerance: set when the tolerance is below the scan's scatter (the curves then
-        zigzag through the noise or lose points as outliers): a tolerance that gives clean
-        curves.
+        zigzag through the noise or lose points as outliers) or its point spacing (nearly every
+        point a vertex): a tolerance that gives clean curves.
     """
 
     contours: list[Contour]
