@@ -226,3 +226,19 @@ def test_a_tolerance_below_the_spacing_says_so_and_suggests_one():
     assert any("below the point spacing" in n for n in tight.notes)
     loose = wavepoly.fit(pts, tight.suggested_tolerance)
     assert loose.suggested_tolerance is None and loose.n_vertices < tight.n_vertices / 2
+
+
+def test_scatter_wider_than_the_noise_window_is_seen():
+    """A ring scanned with scatter 0.9 wide (uniform, as fish.txt's) at tolerance 0.12: over
+    three radii the band fills every window and looked like a wall, and the ring came out as
+    22 pieces without a word. Over wider windows it is noise: one closed ring, and the fit
+    suggests a tolerance above the scatter."""
+    import wavepoly
+
+    rng = np.random.default_rng(2)
+    t = rng.uniform(0, 2 * np.pi, 1500)
+    r = 3 + rng.uniform(-0.45, 0.45, 1500)
+    res = wavepoly.fit(np.column_stack([r * np.cos(t), r * np.sin(t)]), 0.12)
+    assert [c.closed for c in res.contours] == [True]
+    assert res.suggested_tolerance is not None and res.suggested_tolerance > 0.5
+    assert res.validity.valid

@@ -31,6 +31,13 @@ NOISE_KURTOSIS = 2.2
 #: The noise is measured over this many radii: wide enough that a scatter of up to radius / 2
 #: is not cut off.
 NOISE_WINDOW = 3.0
+#: A seed's offsets fill its window when their RMS exceeds this fraction of it (a flat band
+#: as wide as the window has 0.58): the scatter may then be wider than the window...
+FILLED_BAND = 0.25
+#: ... and where most seeds not counted as noise fill their windows, the noise is measured
+#: again over windows twice as wide, up to this many times, where the scatter shows its bell
+#: shape (fish.txt: a scatter of 0.29 looked like walls at radius 0.18).
+WIDER_WINDOWS = 2
 #: Seeds at which the noise is measured: fewer (600) made the estimate wobble enough to raise
 #: false merge notes on noisy glyphs.
 NOISE_SEEDS = 2000
@@ -67,11 +74,22 @@ def noise_level(seeds: FloatArray, atoms: Atoms, radius: float, sample: int = NO
 
     Only bell-shaped scatter is noise: where the perpendicular offsets have a kurtosis below
     `NOISE_KURTOSIS` (two walls side by side, each sharp, or a flat band) the spread is a shape
-    of the data, counted as no noise, so that neighbourhoods stay narrow enough to see it.
+    of the data, counted as no noise, so that neighbourhoods stay narrow enough to see it;
+    unless the band fills the window (`FILLED_BAND`) at most seeds, when the scatter is
+    measured again over wider windows (`WIDER_WINDOWS`).
     """
     pick = np.random.default_rng(0).choice(len(seeds), min(sample, len(seeds)), replace=False)
-    xy = seeds[pick]
-    for _ in range(2):
-        xy, tangent, _, spread = regression_step(xy, atoms, NOISE_WINDOW * radius)
-    kurtosis = perpendicular_kurtosis(xy, tangent, atoms, NOISE_WINDOW * radius)
-    return float(np.median(np.where(kurtosis >= NOISE_KURTOSIS, spread, 0.0)))
+    window = NOISE_WINDOW * radius
+    for _ in range(WIDER_WINDOWS + 1):
+        xy = seeds[pick]
+        for _ in range(2):
+            xy, tangent, _, spread = regression_step(xy, atoms, window)
+        kurtosis = perpendicular_kurtosis(xy, tangent, atoms, window)
+        noise = float(np.median(np.where(kurtosis >= NOISE_KURTOSIS, spread, 0.0)))
+        # a band that fills the window from side to side may be noise wider than the window
+        shape = kurtosis < NOISE_KURTOSIS
+        filled = shape & (spread > FILLED_BAND * window)
+        if noise > 0 or filled.sum() <= 0.5 * shape.sum():
+            return noise
+        window *= 2
+    return noise
