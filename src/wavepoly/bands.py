@@ -22,7 +22,7 @@ import numpy as np
 
 from .errors import DataError
 from .fit import fit
-from .geometry import nest_contours, orient_by_depth
+from .geometry import nest_contours, orient_by_depth, polyline_length
 from .polylines import close_gaps
 from .sections import SURFACE_NEIGHBOURS, section_points, surface_samples
 from .staircase import slab_errors
@@ -137,10 +137,10 @@ def held_over(fits: list[FitResult], bottoms: FloatArray, tops: FloatArray,
     holds the points, or the workers do).
     """
     out = list(fits)
-    for a, b in _open_runs(fits):
+    for a, b in _broken_runs(fits):
         if b - a + 1 > MAX_HELD_RUN:
             continue
-        anchors = [j for j in (a - 1, b + 1) if 0 <= j < len(fits) and _closed(fits[j])]
+        anchors = [j for j in (a - 1, b + 1) if 0 <= j < len(fits) and _solid(fits[j])]
         if not anchors:
             continue
         if len(anchors) == 2:  # the run must not cut the solid: it is split between them
@@ -158,7 +158,7 @@ def held_over(fits: list[FitResult], bottoms: FloatArray, tops: FloatArray,
     return out
 
 
-def _closed(f: FitResult) -> bool:
+def _solid(f: FitResult) -> bool:
     """Can the layer lend its contours: a solid section (closed contours, not broken)?"""
     return any(c.closed for c in f.contours) and not _broken(f)
 
@@ -166,22 +166,19 @@ def _closed(f: FitResult) -> bool:
 def _broken(f: FitResult) -> bool:
     """Does the layer's section stand for no solid: open pieces longer than its closed
     contours (a few fragments closed by chance among them do not make it one)?"""
-    def length(c) -> float:
-        v = np.vstack([c.vertices, c.vertices[:1]]) if c.closed else c.vertices
-        return float(np.linalg.norm(np.diff(v, axis=0), axis=1).sum())
-
-    opened = sum(length(c) for c in f.contours if not c.closed)
-    return opened > 0 and opened > sum(length(c) for c in f.contours if c.closed)
+    opened = sum(polyline_length(c.vertices, False) for c in f.contours if not c.closed)
+    closed = sum(polyline_length(c.vertices, True) for c in f.contours if c.closed)
+    return opened > closed
 
 
-def _open_runs(fits: list[FitResult]) -> list[tuple[int, int]]:
+def _broken_runs(fits: list[FitResult]) -> list[tuple[int, int]]:
     """First and last index of each run of broken layers (`_broken`)."""
     runs, start = [], None
     for k, f in enumerate([*fits, None]):
-        only_open = f is not None and _broken(f)
-        if only_open and start is None:
+        broken = f is not None and _broken(f)
+        if broken and start is None:
             start = k
-        elif not only_open and start is not None:
+        elif not broken and start is not None:
             runs.append((start, k - 1))
             start = None
     return runs

@@ -289,6 +289,12 @@ def segments_distance(points: FloatArray, a: FloatArray, b: FloatArray,
     return nearest_in_grid(np.ascontiguousarray(points), a, b, *segment_grid(a, b), bound)[1]
 
 
+def polyline_length(xy: FloatArray, closed: bool) -> float:
+    """Length of a polyline (closed: including the last-to-first segment)."""
+    ring = np.vstack([xy, xy[:1]]) if closed else xy
+    return float(np.linalg.norm(np.diff(ring, axis=0), axis=1).sum())
+
+
 def polyline_distance(points: FloatArray, vertices: FloatArray, closed: bool) -> FloatArray:
     """Distance of each point to a polyline (closed: including the last-to-first segment)."""
     if len(vertices) == 1:

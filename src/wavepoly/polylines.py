@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .geometry import nest_contours, orient_by_depth, polyline_distance
+from .geometry import nest_contours, orient_by_depth, polyline_distance, polyline_length
 from .simplify import select_vertices
 from .types import Contour, FitResult, FloatArray
 from .validate import check_tolerance
@@ -31,7 +31,7 @@ def fit_polylines(polylines: list[tuple[FloatArray, bool]], tolerance: float,
     curves = [(without_repeats(np.asarray(xy, float), c), c) for xy, c in polylines]
     curves = [(xy, c and len(xy) >= 3) for xy, c in curves if len(xy) >= 2]
     contours: list[Contour | None] = [None] * len(curves)
-    lengths = [_length(xy, c) for xy, c in curves]
+    lengths = [polyline_length(xy, c) for xy, c in curves]
     for k in np.argsort(lengths)[::-1]:
         xy, closed = curves[k]
         fixed = [c for c in contours if c is not None]
@@ -44,11 +44,6 @@ def fit_polylines(polylines: list[tuple[FloatArray, bool]], tolerance: float,
     return FitResult(contours, tolerance, err, float(np.mean([c.mean_error for c in contours]))
                      if contours else 0.0, np.empty(0, np.intp), n, parents, z=z,
                      validity=validity)
-
-
-def _length(xy: FloatArray, closed: bool) -> float:
-    ring = np.vstack([xy, xy[:1]]) if closed else xy
-    return float(np.linalg.norm(np.diff(ring, axis=0), axis=1).sum())
 
 
 def _simplify(xy: FloatArray, closed: bool, tolerance: float, obstacles) -> Contour:

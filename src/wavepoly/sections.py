@@ -189,13 +189,9 @@ def _refine_shallow(nodes: FloatArray, tree: cKDTree, which: IntArray,
         dist, idx = tree.query(nodes[which[rows]], k=k)
         nbr = nodes[idx]
         rel = nbr - nodes[which[rows]][:, None, :]
-        u, v, h = rel[..., 0], rel[..., 1], rel[..., 2]
-        a = np.stack([np.ones_like(u), u, v, u * u, u * v, v * v], axis=-1)
-        gram = np.einsum("nki,nkj->nij", a, a)
-        gram += QUADRIC_RIDGE * np.einsum("nii->n", gram)[:, None, None] * np.eye(6)
-        inverse = np.linalg.inv(gram)  # 6 x 6 per point
-        coef = np.einsum("nij,nkj,nk->ni", inverse, a, h)
-        resid = h - np.einsum("nki,ni->nk", a, coef)
+        a = _quadric_terms(rel[..., 0], rel[..., 1])
+        coef, inverse = _quadric_fit(a, rel[..., 2])
+        resid = rel[..., 2] - np.einsum("nki,ni->nk", a, coef)
         noise = np.einsum("nk,nk->n", resid, resid) / (k - 6)
         grad = coef[:, 1:3]
         slope = np.hypot(grad[:, 0], grad[:, 1])
@@ -223,16 +219,23 @@ def _quadric_offset(centred: FloatArray, own: FloatArray, axes: FloatArray) -> F
     the centroid of a curved wall lies about r^2 / 6R inside it)."""
     local = np.einsum("nki,nij->nkj", centred, axes)  # (normal, minor, major) coordinates
     mine = np.einsum("ni,nij->nj", own, axes)
+    coef, _ = _quadric_fit(_quadric_terms(local[..., 2], local[..., 1]), local[..., 0])
+    return mine[:, 0] - np.einsum("ni,ni->n", _quadric_terms(mine[:, 2], mine[:, 1]), coef)
 
-    def design(xy):
-        x, y = xy[..., 2], xy[..., 1]
-        return np.stack([np.ones_like(x), x, y, x * x, x * y, y * y], axis=-1)
 
-    a = design(local)
-    gram = np.einsum("nki,nkj->nij", a, a)
+def _quadric_terms(x: FloatArray, y: FloatArray) -> FloatArray:
+    """The terms 1, x, y, x^2, xy, y^2 of a quadric, stacked on a last axis."""
+    return np.stack([np.ones_like(x), x, y, x * x, x * y, y * y], axis=-1)
+
+
+def _quadric_fit(terms: FloatArray, h: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Least-squares quadric of each neighbourhood, ``h`` over its (n, k, 6) ``terms``: the
+    (n, 6) coefficients and the inverses of the (ridged) normal equations, whose diagonal
+    scales the coefficients' variances."""
+    gram = np.einsum("nki,nkj->nij", terms, terms)
     gram += QUADRIC_RIDGE * np.einsum("nii->n", gram)[:, None, None] * np.eye(6)
-    coef = np.linalg.solve(gram, np.einsum("nki,nk->ni", a, local[..., 0])[..., None])[..., 0]
-    return mine[:, 0] - np.einsum("ni,ni->n", design(mine), coef)
+    inverse = np.linalg.inv(gram)  # 6 x 6 per point
+    return np.einsum("nij,nkj,nk->ni", inverse, terms, h), inverse
 
 
 def section_points(surface: SurfaceSamples, rows: slice, z: float) -> FloatArray:
