@@ -30,6 +30,9 @@ ANY_DIRECTION_GAP = 4.0
 #: An end faces another when the gap's component along its outward direction is at least this
 #: fraction of the gap (the other end within about 45 degrees of straight ahead).
 FACING_COS = 0.7
+#: An end joins a partner it faces across a gap rather than the nearest free end beside it,
+#: when that partner is at most this many times as far.
+FACING_PREFERENCE = 1.5
 #: A chain closes on itself only with at least this many nodes (fewer cannot enclose anything).
 MIN_CLOSING_NODES = 4
 #: A chain of at least this many nodes whose ends are within `LONG_CLOSE_GAP` R closes even when
@@ -75,9 +78,11 @@ def _mutual_nearest_ends(nodes: Nodes, links: IntArray, free: IntArray, degree: 
     dist, nbr = cKDTree(nodes.xy[free]).query(nodes.xy[free], k=k,
                                               distance_upper_bound=CLOSING_GAP * reach)
     best = np.full(len(free), -1)
+    facing_best = np.full(len(free), -1)
+    best_dist = np.full(len(free), np.inf)
     for col in range(1, k):
         cand = np.minimum(nbr[:, col], len(free) - 1)
-        ok = np.isfinite(dist[:, col]) & (best < 0)
+        ok = np.isfinite(dist[:, col])
         same = comp[free] == comp[free[cand]]
         ok &= ~_linked(links, free, free[cand], n)
         gap = nodes.xy[free[cand]] - nodes.xy[free]
@@ -106,7 +111,14 @@ def _mutual_nearest_ends(nodes: Nodes, links: IntArray, free: IntArray, degree: 
         closing = same & (size[comp[free]] >= LONG_CHAIN_NODES) & (
             (ahead > FACING_COS * dist[:, col]) | (ahead_other > FACING_COS * dist[:, col]))
         ok &= (dist[:, col] <= ANY_DIRECTION_GAP * reach) | facing | closing
-        best[ok] = cand[ok]
+        first = ok & (best < 0)
+        best_dist = np.where(first, dist[:, col], best_dist)
+        best[first] = cand[first]
+        # an end that faces a partner across a gap continues there rather than turn aside to a
+        # nearer end beside it (two rings with gaps side by side would merge into one)
+        take = ok & facing & (facing_best < 0) & (dist[:, col] <= FACING_PREFERENCE * best_dist)
+        facing_best[take] = cand[take]
+    best = np.where(facing_best >= 0, facing_best, best)
     mutual = (best >= 0) & (best[np.maximum(best, 0)] == np.arange(len(free)))
     pairs = np.column_stack([free[mutual], free[best[mutual]]])
     return pairs[pairs[:, 0] < pairs[:, 1]]
