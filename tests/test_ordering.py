@@ -291,3 +291,34 @@ def test_the_shared_crocodile_keeps_every_point(shared_data):
     res = wavepoly.fit(pts, 0.02)
     assert len(res.outliers) == 0 and [c.closed for c in res.contours] == [True]
     assert res.validity.valid and not any("scatter" in n for n in res.notes)
+
+
+def _ring_with_gap(radius, spacing, gap_angle):
+    t = np.arange(gap_angle, 2 * np.pi, spacing / radius)
+    return radius * np.column_stack([np.cos(t), np.sin(t)])
+
+
+def test_rings_with_gaps_side_by_side_stay_two_rings():
+    """Two rings 2 radii apart, each with a gap of 2.5 radii at the same place: each end faces
+    its own ring's other end across the gap and joins it, not the nearer end beside it (which
+    merged the two rings into one)."""
+    pts = np.vstack([_ring_with_gap(3.0, 0.03, 0.25 / 3.0), _ring_with_gap(3.2, 0.03, 0.25 / 3.2)])
+    ordering = order_points(pts, 0.1)
+    assert [c.closed for c in ordering.contours] == [True, True]
+    radii = sorted(float(np.linalg.norm(c.points, axis=1).mean()) for c in ordering.contours)
+    assert np.allclose(radii, [3.0, 3.2], atol=0.02)
+
+
+def test_strays_about_a_dense_wall_are_not_corners():
+    """A dense wall with a halo of stray points 0.7-1 radii off both sides: the strays are a
+    small share of each stretch's points, so none is inserted as a corner (they zigzagged the
+    Intel map's walls, here out to 0.1); the wall's ordered curve stays straight."""
+    rng = np.random.default_rng(4)
+    wall = np.column_stack([rng.uniform(0, 10, 20000), rng.normal(0, 0.01, 20000)])
+    side = rng.choice([-1.0, 1.0], 600)
+    strays = np.column_stack([rng.uniform(0, 10, 600), side * rng.uniform(0.07, 0.1, 600)])
+    ordering = order_points(np.vstack([wall, strays]), 0.1)
+    (contour,) = ordering.contours
+    assert np.abs(contour.points[:, 1]).max() < 0.02
+    assert set(ordering.outliers.tolist()) <= set(range(len(wall), len(wall) + 600))
+    assert len(ordering.outliers) <= 12

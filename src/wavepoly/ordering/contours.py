@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
-from ..geometry import farther_than
+from ..geometry import nearest_segment
 from ..types import Chain, FloatArray, IntArray, OrderedContour
 from .marching import CORNER_TURN, turning
 from .neighbourhoods import Nodes
@@ -29,6 +29,10 @@ CORNER_GAP = 0.6
 #: A cut corner is a group of at least this many members beyond `CORNER_GAP` (lone noisy
 #: points never qualify).
 CORNER_GROUP = 3
+#: ... and that group is at least this share of the segment's points: the points round a cut
+#: corner are, strays about a dense noisy wall are not (inserting them zigzagged the walls of
+#: the Intel map).
+CORNER_SHARE = 0.15
 #: Rounds of corner insertion: each halves the gap a rounded corner leaves.
 CORNER_ROUNDS = 4
 
@@ -66,13 +70,15 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
         xy = sharpen_corners(nodes.xy[seq], closed, tree, radius)
         if not closed:
             xy = _extend_ends(xy, pts[members], radius)
-        # a member within CORNER_GAP radii of a node that is still a vertex needs no measuring
+        # a member within CORNER_GAP radii of a node that is still a vertex needs no measuring:
+        # it only counts among the points of the segments beside that vertex
         at = nearest[members] - first_node[c]
         own = (at >= 0) & (at < len(seq))  # not an absorbed node
-        kept = np.zeros(len(members), dtype=bool)
-        kept[own] = _still_vertices(nodes.xy[seq], xy)[at[own]]
-        unsure = np.flatnonzero(~(kept & (dist[members] <= CORNER_GAP * radius)))
-        xy, far = _cover_cut_corners(xy, pts[members[unsure]], closed, radius)
+        vertex = np.full(len(members), -1)
+        vertex[own] = _vertex_index(nodes.xy[seq], xy)[at[own]]
+        sure = (vertex >= 0) & (dist[members] <= CORNER_GAP * radius)
+        unsure = np.flatnonzero(~sure)
+        xy, far = _cover_cut_corners(xy, pts[members[unsure]], closed, radius, vertex[sure])
         xy = untangle(xy, closed)
         inside = np.ones(len(members), dtype=bool)
         inside[unsure[far]] = False
@@ -82,35 +88,63 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
     return contours, np.sort(np.concatenate(outliers)).astype(np.intp)
 
 
-def _still_vertices(chain: FloatArray, xy: FloatArray) -> np.ndarray:
-    """Which points of ``chain`` are (exactly) vertices of ``xy``."""
-    return np.isin(chain[:, 0] + 1j * chain[:, 1], xy[:, 0] + 1j * xy[:, 1])
+def _vertex_index(chain: FloatArray, xy: FloatArray) -> IntArray:
+    """Index in ``xy`` of each point of ``chain`` that is (exactly) a vertex of it, else -1."""
+    key, chain_key = xy[:, 0] + 1j * xy[:, 1], chain[:, 0] + 1j * chain[:, 1]
+    order = np.argsort(key)
+    at = np.minimum(np.searchsorted(key[order], chain_key), len(xy) - 1)
+    return np.where(key[order][at] == chain_key, order[at], -1)
 
 
 def _cover_cut_corners(xy: FloatArray, members: FloatArray, closed: bool, radius: float,
-                       rounds: int = CORNER_ROUNDS) -> tuple[FloatArray, IntArray]:
+                       near_vertex: IntArray | None = None, rounds: int = CORNER_ROUNDS
+                       ) -> tuple[FloatArray, IntArray]:
     """Insert member points where a group of them lies off the chain (a corner it cut).
 
     Where `CORNER_GROUP` points tied to one chain segment are farther than `CORNER_GAP` radii
-    from the chain, the farthest of them is inserted into that segment; a few rounds of this put
-    a point on a corner that neighbourhood averaging rounded off. Lone noisy points never
-    qualify.
+    from the chain, and make up `CORNER_SHARE` of its points (`_cut_corner`), the farthest of
+    them is inserted into that segment; a few rounds of this put a point on a corner that
+    neighbourhood averaging rounded off. Lone noisy points never qualify, nor does a halo of
+    strays about a dense wall (a few points among the many of each stretch).
+    ``near_vertex`` holds, for further points of the chain not in ``members``, the vertex each
+    lies within the gap of: they count half to each segment beside it.
     Returns the new chain and the members still farther than ``radius`` from it.
     """
+    near_vertex = np.empty(0, dtype=np.intp) if near_vertex is None else near_vertex
+    ring = closed and len(xy) >= 3
+    gap = CORNER_GAP * radius
     for round_ in range(rounds + 1):
-        far, seg, dist = farther_than(members, xy, closed and len(xy) >= 3,
-                                      CORNER_GAP * radius)
+        seg, dist = nearest_segment(members, xy, ring)
+        far = np.flatnonzero(dist > gap)
         segs = np.empty(0, dtype=np.intp)
         if len(far) >= CORNER_GROUP and round_ < rounds:
-            counts = np.bincount(seg, minlength=len(xy))
+            counts = np.bincount(seg[far], minlength=len(xy))
             worst = np.full(len(xy), -1)
-            order = np.argsort(dist)
-            worst[seg[order]] = far[order]  # the last write per segment is its farthest point
-            segs = np.flatnonzero((counts >= CORNER_GROUP) & (worst >= 0))
+            order = far[np.argsort(dist[far])]
+            worst[seg[order]] = order  # the last write per segment is its farthest point
+            total = np.bincount(seg, minlength=len(xy)) + _beside(near_vertex, len(xy), ring)
+            segs = np.flatnonzero(_cut_corner(counts, total))
         if not len(segs):
-            return xy, far[dist > radius]
+            return xy, far[dist[far] > radius]
+        near_vertex = near_vertex + np.searchsorted(segs + 1, near_vertex, side="right")
         xy = np.insert(xy, segs + 1, members[worst[segs]], axis=0)
     raise AssertionError("unreachable")  # pragma: no cover
+
+
+def _beside(vertex: IntArray, n: int, ring: bool) -> FloatArray:
+    """Points per segment of an ``n``-vertex chain from points at ``vertex``: half to each
+    segment beside it (the one segment at an end of an open chain gets all)."""
+    if not ring:  # segment i joins vertices i and i + 1; the last vertex starts none
+        before, after = np.maximum(vertex - 1, 0), np.minimum(vertex, max(n - 2, 0))
+    else:
+        before, after = (vertex - 1) % n, vertex
+    return 0.5 * (np.bincount(before, minlength=n) + np.bincount(after, minlength=n))[:n]
+
+
+def _cut_corner(far: IntArray, members: IntArray) -> np.ndarray:
+    """Which segments, with ``far`` of their ``members`` beyond the gap, cut a corner: a group
+    of at least `CORNER_GROUP` that is at least `CORNER_SHARE` of the segment's points."""
+    return (far >= CORNER_GROUP) & (far >= CORNER_SHARE * members)
 
 
 def _extend_ends(xy: FloatArray, members: FloatArray, radius: float) -> FloatArray:
