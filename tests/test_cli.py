@@ -142,6 +142,22 @@ def _processes_with(marker: str) -> list[int]:
     return pids
 
 
+def _first_progress_line(proc, timeout: float = 60.0) -> str:
+    """The stderr of ``proc`` up to and including its first "fitting layers" line."""
+    import select
+    import time
+
+    seen, deadline = "", time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        ready, _, _ = select.select([proc.stderr], [], [], 0.5)
+        if ready:
+            line = proc.stderr.readline()
+            seen += line
+            if not line or line.startswith("fitting layers: "):
+                return seen
+    return seen
+
+
 @pytest.mark.parametrize("sig, code", [("SIGTERM", 143), ("SIGINT", 130)])
 def test_a_signal_stops_a_slice_cleanly(tmp_path, sig, code):
     """Ctrl-C (to the whole process group) or SIGTERM during a slice on the local pool: the
@@ -160,13 +176,16 @@ def test_a_signal_stops_a_slice_cleanly(tmp_path, sig, code):
                              "-t", "0.02", "--layer", "0.02", "-o", str(out)],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             start_new_session=True)
-    time.sleep(5.0)  # reading, normals, and the pool at work (the whole run takes ~15 s)
+    # the signal goes once the pool is at work (its first progress line), not after a fixed
+    # wait that a loaded machine may not have reached
+    seen = _first_progress_line(proc)
     assert proc.poll() is None, proc.communicate()
     if sig == "SIGINT":
         os.killpg(proc.pid, signal.SIGINT)
     else:
         proc.send_signal(signal.SIGTERM)
     _, err = proc.communicate(timeout=20)
+    err = seen + err
     assert proc.returncode == code, err
     *progress, last = err.strip().splitlines()  # plain progress lines, then one message
     assert all(line.startswith("fitting layers: ") for line in progress)
