@@ -48,6 +48,11 @@ MIN_RUN = 4
 MAX_VERTEX_OFFSET = 1.0
 
 def point_parameters(points: FloatArray, pyramid: Pyramid) -> FloatArray:
+    """Curve parameter of each data point (`_parameters_and_order`)."""
+    return _parameters_and_order(points, pyramid)[0]
+
+
+def _parameters_and_order(points: FloatArray, pyramid: Pyramid) -> tuple[FloatArray, IntArray]:
     """Curve parameter of each data point: its projection on the finest control polygon.
 
     Points outside a corner all project onto the corner; they are told apart by direction
@@ -76,9 +81,9 @@ def point_parameters(points: FloatArray, pyramid: Pyramid) -> FloatArray:
         w = _unit(points[inner] - cp[i])
         key = np.einsum("ij,ij->i", w, d_in + d_out)  # -1 by the incoming edge, +1 by the next
         param[inner] = u[i] + 0.25 * key * delta
-    param = _untie(param, 1e-3 * delta)
+    param, order = _untie(param, 1e-3 * delta)
     if pyramid.closed:
-        return np.mod(param, 1.0)
+        return np.mod(param, 1.0), order
     # beyond an end of an open contour: the parameter continues along the end segment, so that
     # the repair can extend the polyline to such points
     for end, nxt in ((0, 1), (m, m - 1)):
@@ -90,7 +95,7 @@ def point_parameters(points: FloatArray, pyramid: Pyramid) -> FloatArray:
                                                                                 1e-300))
             # strictly beyond the end vertex, so that an inserted point has its own parameter
             param[out] = u[end] + (np.maximum(t, 0.0) + delta * (1 + gap)) * (u[end] - u[nxt])
-    return param
+    return param, order
 
 
 def _locate(points: FloatArray, line: FloatArray, arc: FloatArray) -> FloatArray:
@@ -108,16 +113,17 @@ def _locate(points: FloatArray, line: FloatArray, arc: FloatArray) -> FloatArray
     return s
 
 
-def _untie(param: FloatArray, step: float) -> FloatArray:
+def _untie(param: FloatArray, step: float) -> tuple[FloatArray, IntArray]:
     """Equal parameters spread by ``step`` (in input order): with every point's parameter its
-    own, a point inserted as a vertex starts the edge that holds it, so the repair ends."""
+    own, a point inserted as a vertex starts the edge that holds it, so the repair ends.
+    Also returns the (stable) order that sorts ``param``."""
     order = np.argsort(param, kind="stable")
     p = param[order]
     new_group = np.concatenate([[True], p[1:] != p[:-1]])
     start = np.maximum.accumulate(np.where(new_group, np.arange(len(p)), 0))
     out = param.copy()
     out[order] = p + (np.arange(len(p)) - start) * step
-    return out
+    return out, order
 
 
 def _unit(v: FloatArray) -> FloatArray:
@@ -253,10 +259,11 @@ def reconstruct_contour(pyramid: Pyramid, ordered: FloatArray, points: FloatArra
     """
     closed = pyramid.closed
     level = pyramid.coarsest if start_level is None else start_level
-    params = point_parameters(points, pyramid)
+    params, by_param = _parameters_and_order(points, pyramid)
     # in parameter order from here on (the result holds no per-point arrays): the sorts and
     # searches of the selection then run over sorted data
-    by_param = np.argsort(params, kind="stable")
+    if np.any(np.diff(params[by_param]) < 0):  # ends continued or wrapped: sort again
+        by_param = np.argsort(params, kind="stable")
     points, params = points[by_param], params[by_param]
     live = np.arange(len(points))  # the working set of data points (eq. 10 deletes from it)
     gdl: list[Msc] = []
