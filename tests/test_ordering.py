@@ -322,3 +322,30 @@ def test_strays_about_a_dense_wall_are_not_corners():
     assert np.abs(contour.points[:, 1]).max() < 0.02
     assert set(ordering.outliers.tolist()) <= set(range(len(wall), len(wall) + 600))
     assert len(ordering.outliers) <= 12
+
+
+def test_a_ghost_wall_beside_a_dense_one_is_followed_not_zigzagged():
+    """A laser map's double wall: a dense wall and a lighter one 1.6 radii beside it, each with
+    scatter 0.25 radii. The neighbourhoods, widened for the scatter, span both; the march
+    zigzagged between them. Each such neighbourhood now gives a node on each wall, so every
+    ordered point lies on one of the walls."""
+    rng = np.random.default_rng(3)
+    dense = np.column_stack([rng.uniform(0, 10, 30000), rng.normal(0, 0.025, 30000)])
+    ghost = np.column_stack([rng.uniform(0, 10, 10000), rng.normal(0.16, 0.025, 10000)])
+    ordering = order_points(np.vstack([dense, ghost]), 0.1)
+    assert 1 <= len(ordering.contours) <= 2
+    ordered = np.vstack([c.points for c in ordering.contours])
+    off_wall = np.minimum(np.abs(ordered[:, 1]), np.abs(ordered[:, 1] - 0.16))
+    assert np.percentile(off_wall, 99) < 0.03
+    assert len(ordering.outliers) < 0.01 * 40000
+
+
+def test_noisy_curves_are_not_split_into_two_walls():
+    """Bell-shaped scatter fills the middle between the two halves of a neighbourhood, and a
+    few nodes that pass the test by chance are not a wall running alongside: noisy glyphs
+    keep their closed outlines."""
+    for text, rings in (("B", 3), ("kx", 2)):
+        shape = glyph_outlines(text)
+        pts = sample_rings(shape.rings, spacing=0.012, noise=0.04, seed=2)
+        ordering = order_points(pts, 0.08)
+        assert [c.closed for c in ordering.contours] == [True] * rings

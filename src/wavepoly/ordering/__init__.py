@@ -11,6 +11,8 @@ Python loop runs over points:
    clouds enter these sums as one weighted atom per cell of radius/8 (`cell_atoms`). On a noisy
    scan (bell-shaped scatter about the curves, `noise_level`) the neighbourhoods reach 5 x the
    noise instead, up to 4 x radius, so that the tangent follows the curve, not the scatter.
+   A neighbourhood that spans two walls side by side (a laser map's double wall) becomes a
+   node on each wall (`walls`).
 2. *Thinning*: a random (seeded) maximal set of centroids at least radius/2 apart is kept
    (Luby's parallel rounds), so consecutive ordered points are radius/2 .. radius apart, as
    one marching step would place them.
@@ -40,6 +42,7 @@ from .marching import chains_of, drop_side_chains, link_nodes, thin, wide_nodes
 from .neighbourhoods import Nodes, perpendicular_kurtosis
 from .noise import noise_adaptive_nodes
 from .spacing import curve_spacing, median_spacing, spacing_bound
+from .walls import split_two_walls
 
 #: Kurtosis of the perpendicular scatter below which a wide neighbourhood is two walls, not a
 #: band of points (two sharp walls: 1; a flat band: 1.8).
@@ -97,6 +100,7 @@ def order_points(points: FloatArray, radius: float, *, seed: int = 0, min_points
     if nodes.reach > radius:
         notes.append(f"noisy scan (scatter {nodes.noise:.3g} about the curves): neighbourhoods "
                      f"widened from {radius:.4g} to {nodes.reach:.4g} to follow the curves")
+    nodes = split_two_walls(nodes, atoms, radius)
     keep = thin(nodes.xy, radius / 2, rng)
     nodes = Nodes(nodes.xy[keep], nodes.tangent[keep], nodes.ratio[keep], nodes.spread[keep],
                   nodes.reach, nodes.noise)

@@ -1,0 +1,109 @@
+"""Two walls side by side: a neighbourhood that spans both becomes one node on each wall.
+
+A neighbourhood is wider than the gap between two parallel walls when the gap is less than
+about twice its reach (a laser map's double walls, rings 1.5-2 tolerances apart, the two sides
+of a thin part). Its centroid then lies between the walls, and the march would zigzag between
+them or merge them into one contour. Across such a neighbourhood's regression line the offsets
+of its points fall into two sharp groups, one per wall: split at their mean, each side's
+spread is small against the gap between the sides' means (a wall's noise against the gap),
+where a Gaussian scatter gives about 0.38 of the gap, a flat band 0.29 and a corner's second
+leg more. Such a node is replaced by two, each at the mean offset of its side and with the same
+tangent, so that the thinning keeps a node on each wall and the march follows each wall on
+its own. (The kurtosis of the offsets, which tells two equal walls from noise, does not serve
+here: a light ghost wall beside a dense one gives a heavy tail, as noise does.)
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from ..types import FloatArray
+from .neighbourhoods import Atoms, Nodes
+
+#: A neighbourhood is tested when its perpendicular spread exceeds this many radii: two walls
+#: a gap d apart spread d / 2, and walls closer than one radius are one curve to the tolerance.
+SPLIT_SPREAD = 0.5
+#: Each side must hold at least this share of the neighbourhood's weight: two walls, not a wall
+#: and a few strays beside it.
+SIDE_SHARE = 0.1
+#: Each side's own spread must be below this share of the gap between the sides: two sharp
+#: walls (walls more than 5 noise levels apart), not a band (0.29) or Gaussian scatter (0.38).
+SIDE_SHARPNESS = 0.25
+#: Between the sides' means, the middle half of the gap must hold less than this share of the
+#: weight: two walls leave it nearly empty (8 % for walls 5.7 noise levels apart), a
+#: bell-shaped scatter fills it (31 %), a flat band too (25 %).
+EMPTY_MIDDLE = 0.15
+#: Walls run side by side for a while: a node splits only when at least this many nodes within
+#: `SIDE_BY_SIDE_REACH` neighbourhood reaches would split too (a few that pass by chance on a
+#: noisy curve do not).
+SIDE_BY_SIDE_NODES = 12
+SIDE_BY_SIDE_REACH = 2.0
+#: Rounds of two-means after the split at the mean: each moves the split to halfway between
+#: the sides' means; two walls settle in two or three.
+SPLIT_ROUNDS = 3
+
+
+def split_two_walls(nodes: Nodes, atoms: Atoms, radius: float) -> Nodes:
+    """``nodes`` with each neighbourhood that spans two walls replaced by a node on each."""
+    wide = np.flatnonzero(nodes.spread > SPLIT_SPREAD * radius)
+    if not len(wide):
+        return nodes
+    sides = _sides(nodes.xy[wide], nodes.tangent[wide], atoms, nodes.reach)
+    low, high, spread_low, spread_high, share, middle = sides
+    gap = high - low
+    split = ((gap > radius) & (share >= SIDE_SHARE)
+             & (share <= 1 - SIDE_SHARE)
+             & (np.maximum(spread_low, spread_high) < SIDE_SHARPNESS * gap)
+             & (middle < EMPTY_MIDDLE))
+    if split.any():  # walls run side by side for a while; a few such nodes are chance
+        found = cKDTree(nodes.xy[wide[split]]).query_ball_point(
+            nodes.xy[wide[split]], SIDE_BY_SIDE_REACH * nodes.reach, return_length=True)
+        split[np.flatnonzero(split)[found < SIDE_BY_SIDE_NODES]] = False
+    if not split.any():
+        return nodes
+    at = wide[split]
+    normal = np.column_stack([-nodes.tangent[at, 1], nodes.tangent[at, 0]])
+    keep = np.ones(len(nodes.xy), dtype=bool)
+    keep[at] = False
+    xy = np.vstack([nodes.xy[keep], nodes.xy[at] + low[split, None] * normal,
+                    nodes.xy[at] + high[split, None] * normal])
+    tangent = np.vstack([nodes.tangent[keep], nodes.tangent[at], nodes.tangent[at]])
+    ratio = np.concatenate([nodes.ratio[keep], np.zeros(2 * len(at))])
+    spread = np.concatenate([nodes.spread[keep], spread_low[split], spread_high[split]])
+    return Nodes(xy, tangent, ratio, spread, nodes.reach, nodes.noise)
+
+
+def _sides(centre: FloatArray, tangent: FloatArray, atoms: Atoms, reach: float
+           ) -> tuple[FloatArray, ...]:
+    """Across each line (``centre``, ``tangent``), of the points within ``reach``: the mean
+    offset and RMS spread of each side, and the share of the weight on the high side. The
+    sides are split where two-means puts them (a light ghost wall beside a dense one would
+    lose some of the dense wall's points to a split at the mean). Last, the share of the
+    weight in the middle half of the gap between the sides' means."""
+    k = len(centre)
+    pairs = cKDTree(centre).sparse_distance_matrix(atoms.tree, reach, output_type="ndarray")
+    owner, idx = pairs["i"], pairs["j"]
+    normal = np.column_stack([-tangent[:, 1], tangent[:, 0]])
+    offset = np.einsum("nd,nd->n", atoms.xy[idx] - centre[owner], normal[owner])
+    w = atoms.weight[idx]
+    sc = atoms.scatter[idx]  # each atom's own scatter, summed over its points
+    n = normal[owner]
+    inner = n[:, 0] ** 2 * sc[:, 0] + 2 * n[:, 0] * n[:, 1] * sc[:, 1] + n[:, 1] ** 2 * sc[:, 2]
+    total = np.maximum(np.bincount(owner, w, k), 1e-300)
+    mean = np.bincount(owner, w * offset, k) / total
+    threshold = mean
+    for _ in range(SPLIT_ROUNDS + 1):  # two-means in one dimension (Lloyd's rounds)
+        up = offset > threshold[owner]
+        out = []
+        for side in (~up, up):
+            ws = np.where(side, w, 0.0)
+            weight = np.maximum(np.bincount(owner, ws, k), 1e-300)
+            m = np.bincount(owner, ws * offset, k) / weight
+            var = np.bincount(owner, ws * (offset - m[owner]) ** 2 + np.where(side, inner, 0.0),
+                              k) / weight
+            out.append((m, np.sqrt(np.maximum(var, 0.0)), weight))
+        (low, s_low, _), (high, s_high, w_high) = out
+        threshold = 0.5 * (low + high)
+    middle = np.abs(offset - threshold[owner]) < 0.25 * (high - low)[owner]
+    return low, high, s_low, s_high, w_high / total, np.bincount(owner, w * middle, k) / total
