@@ -19,6 +19,7 @@ from .neighbourhoods import (
     perpendicular_kurtosis,
     regression_step,
 )
+from .walls import two_walls_spread
 
 #: On noisy scans the neighbourhoods reach this many times the noise level (at most
 #: `MAX_REACH` radii): wide enough that the regression line follows the curve, not the scatter.
@@ -76,7 +77,9 @@ def noise_level(seeds: FloatArray, atoms: Atoms, radius: float, sample: int = NO
     `NOISE_KURTOSIS` (two walls side by side, each sharp, or a flat band) the spread is a shape
     of the data, counted as no noise, so that neighbourhoods stay narrow enough to see it;
     unless the band fills the window (`FILLED_BAND`) at most seeds, when the scatter is
-    measured again over wider windows (`WIDER_WINDOWS`).
+    measured again over wider windows (`WIDER_WINDOWS`). Where the window holds two walls
+    side by side (`wavepoly.ordering.walls.two_walls_spread`), the noise is each wall's own
+    scatter, not their spread about a line between them (a heavy tail, as noise has).
     """
     pick = np.random.default_rng(0).choice(len(seeds), min(sample, len(seeds)), replace=False)
     window = NOISE_WINDOW * radius
@@ -85,7 +88,11 @@ def noise_level(seeds: FloatArray, atoms: Atoms, radius: float, sample: int = NO
         for _ in range(2):
             xy, tangent, _, spread = regression_step(xy, atoms, window)
         kurtosis = perpendicular_kurtosis(xy, tangent, atoms, window)
-        noise = float(np.median(np.where(kurtosis >= NOISE_KURTOSIS, spread, 0.0)))
+        # two walls in one window (rings 3 tolerances apart): the noise is each wall's own
+        # scatter, not the spread of both about a line between them
+        two, own = two_walls_spread(xy, tangent, atoms, window, radius)
+        spread = np.where(two, own, spread)
+        noise = float(np.median(np.where((kurtosis >= NOISE_KURTOSIS) | two, spread, 0.0)))
         # a band that fills the window from side to side may be noise wider than the window
         shape = kurtosis < NOISE_KURTOSIS
         filled = shape & (spread > FILLED_BAND * window)

@@ -50,12 +50,8 @@ def split_two_walls(nodes: Nodes, atoms: Atoms, radius: float) -> Nodes:
     if not len(wide):
         return nodes
     sides = _sides(nodes.xy[wide], nodes.tangent[wide], atoms, nodes.reach)
-    low, high, spread_low, spread_high, share, middle = sides
-    gap = high - low
-    split = ((gap > radius) & (share >= SIDE_SHARE)
-             & (share <= 1 - SIDE_SHARE)
-             & (np.maximum(spread_low, spread_high) < SIDE_SHARPNESS * gap)
-             & (middle < EMPTY_MIDDLE))
+    low, high, spread_low, spread_high, _, _ = sides
+    split = _two_walls(sides, radius)
     if split.any():  # walls run side by side for a while; a few such nodes are chance
         found = cKDTree(nodes.xy[wide[split]]).query_ball_point(
             nodes.xy[wide[split]], SIDE_BY_SIDE_REACH * nodes.reach, return_length=True)
@@ -72,6 +68,26 @@ def split_two_walls(nodes: Nodes, atoms: Atoms, radius: float) -> Nodes:
     ratio = np.concatenate([nodes.ratio[keep], np.zeros(2 * len(at))])
     spread = np.concatenate([nodes.spread[keep], spread_low[split], spread_high[split]])
     return Nodes(xy, tangent, ratio, spread, nodes.reach, nodes.noise)
+
+
+def two_walls_spread(centre: FloatArray, tangent: FloatArray, atoms: Atoms, reach: float,
+                     radius: float) -> tuple[np.ndarray, FloatArray]:
+    """Which lines (``centre``, ``tangent``) have two walls side by side within ``reach``, and
+    the RMS spread of the points about their own wall (`split_two_walls`'s tests, without
+    the run along the walls)."""
+    sides = _sides(centre, tangent, atoms, reach)
+    share = sides[4]
+    own = np.sqrt((1 - share) * sides[2] ** 2 + share * sides[3] ** 2)
+    return _two_walls(sides, radius), own
+
+
+def _two_walls(sides: tuple[FloatArray, ...], radius: float) -> np.ndarray:
+    """Which of the neighbourhoods measured by `_sides` hold two walls side by side."""
+    low, high, spread_low, spread_high, share, middle = sides
+    gap = high - low
+    return ((gap > radius) & (share >= SIDE_SHARE) & (share <= 1 - SIDE_SHARE)
+            & (np.maximum(spread_low, spread_high) < SIDE_SHARPNESS * gap)
+            & (middle < EMPTY_MIDDLE))
 
 
 def _sides(centre: FloatArray, tangent: FloatArray, atoms: Atoms, reach: float
