@@ -12,7 +12,7 @@ import shapely
 
 import wavepoly
 from wavepoly.baselines import min_vertices_covering
-from wavepoly.samples import glyph_outlines, sample_rings
+from wavepoly.samples import TrueShape, glyph_outlines, sample_rings
 
 from .common import ROOT, SHARED, table
 
@@ -49,6 +49,7 @@ def _cases():
         for spacing in (0.015, 0.03):
             pts = sample_rings(shape.rings, spacing=spacing, noise=0.01, seed=1)
             yield f"glyphs '{name}', spacing {spacing}", pts, 0.08, shape
+    yield from _ring_cases()
     svg = SHARED / "curves2d" / "ground_truth_svg"
     for path in sorted(svg.glob("*.svg")) if svg.is_dir() else []:
         shape = truth.svg_shape(path)
@@ -67,6 +68,21 @@ def _cases():
         path = SHARED / "lidar2d" / name
         if path.exists():
             yield f"{name.split('-')[0]} laser map", wavepoly.read_points(path), eps, None
+
+
+def _ring_cases():
+    """Near-touching rings: two concentric circles 1.5-4 ε apart, sampled every ε / 3 at
+    random, with no noise or Gaussian noise ε / 8 (the issue's "two walls closer than 2 ε")."""
+    eps = 0.1
+    for gap in (1.5, 2.0, 3.0, 4.0):
+        for noise in (0.0, eps / 8):
+            for radius in (3.0, 8.0):
+                t = np.linspace(0, 2 * np.pi, 720, endpoint=False)
+                rings = [r * np.column_stack([np.cos(t), np.sin(t)])
+                         for r in (radius, radius + gap * eps)]
+                pts = sample_rings(rings, spacing=eps / 3, noise=noise, seed=0)
+                yield (f"rings {gap:g} ε apart, R {radius:g}, noise {noise / eps:g} ε", pts,
+                       eps, TrueShape(rings, [True, True]))
 
 
 def _covering_min(pts: np.ndarray, eps: float) -> int | None:
