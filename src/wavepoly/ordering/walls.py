@@ -65,7 +65,7 @@ def split_two_walls(nodes: Nodes, atoms: Atoms, radius: float) -> Nodes:
     xy = np.vstack([nodes.xy[keep], nodes.xy[at] + low[split, None] * normal,
                     nodes.xy[at] + high[split, None] * normal])
     tangent = np.vstack([nodes.tangent[keep], nodes.tangent[at], nodes.tangent[at]])
-    ratio = np.concatenate([nodes.ratio[keep], np.zeros(2 * len(at))])
+    ratio = np.concatenate([nodes.ratio[keep], nodes.ratio[at], nodes.ratio[at]])
     spread = np.concatenate([nodes.spread[keep], spread_low[split], spread_high[split]])
     return Nodes(xy, tangent, ratio, spread, nodes.reach, nodes.noise)
 
