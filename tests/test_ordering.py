@@ -367,3 +367,21 @@ def test_two_noisy_rings_in_one_window_measure_their_own_scatter():
     ordering = order_points(pts, 0.1)
     assert ordering.noise < 2 * 0.0125
     assert [c.closed for c in ordering.contours] == [True, True]
+
+
+def test_rings_whose_march_jumped_between_them_get_their_own_stretches_back():
+    """Rings 1.5 radii apart with scatter radius / 8, sampled at random angles: where both
+    have a gap at the same place the march jumped from one to the other and back, so each
+    closed chain followed the other ring for a stretch; the two chains crossed twice and were
+    cut into 4 open pieces. The stretches between the crossings are swapped back."""
+    rng = np.random.default_rng(0)
+    rings = []
+    for r in (8.0, 8.15):
+        t = rng.uniform(0, 2 * np.pi, int(2 * np.pi * r / (0.1 / 3)))
+        rings.append(r * np.column_stack([np.cos(t), np.sin(t)]))
+    pts = np.vstack(rings)
+    pts = pts + rng.normal(scale=0.0125, size=pts.shape)
+    ordering = order_points(pts, 0.1)
+    assert [c.closed for c in ordering.contours] == [True, True]
+    radii = sorted(float(np.linalg.norm(c.points, axis=1).mean()) for c in ordering.contours)
+    assert np.allclose(radii, [8.0, 8.15], atol=0.02)

@@ -16,7 +16,7 @@ from ..geometry import nearest_segment
 from ..types import Chain, FloatArray, IntArray, OrderedContour
 from .marching import CORNER_TURN, turning
 from .neighbourhoods import Nodes
-from .untangle import split_at_crossings, untangle
+from .untangle import split_at_crossings, swap_crossed_stretches, untangle
 
 #: Chains shorter than this cannot hold a corner with two legs of two points each.
 MIN_CORNER_NODES = 6
@@ -84,7 +84,7 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
         inside[unsure[far]] = False
         outliers.append(members[~inside])
         contours.append(OrderedContour(xy, closed, members[inside]))  # sorted: stable argsort
-    contours = split_at_crossings(contours, pts)
+    contours = split_at_crossings(swap_crossed_stretches(contours, pts), pts)
     return contours, np.sort(np.concatenate(outliers)).astype(np.intp)
 
 

@@ -24,6 +24,10 @@ from ..validity import split_at_crossings_of
 #: Rounds of 2-opt moves; each round reverses every crossing run that no other run overlaps,
 #: and real chains are simple after a few rounds (the chain shortens every time).
 MAX_ROUNDS = 200
+#: Where two closed chains cross on edges that each turn by more than this (degrees) from an
+#: edge beside them, the march switched between near-touching rings (it jumped across);
+#: two smooth curves that truly cross run straight through the crossing.
+SWITCH_TURN = 20.0
 
 
 def untangle(xy: FloatArray, closed: bool) -> FloatArray:
@@ -67,6 +71,96 @@ def _disjoint_runs(pairs: IntArray) -> list[tuple[int, int]]:
         if all(j < s or i > e for s, e in taken):
             taken.append((int(i), int(j)))
     return taken
+
+
+def swap_crossed_stretches(contours: list[OrderedContour], points: FloatArray
+                           ) -> list[OrderedContour]:
+    """Two closed chains that cross each other twice where the march jumped, with the stretches
+    between the crossings swapped.
+
+    Where two near-touching rings both have a gap in their samples at the same place, the
+    march can run along one ring into the gap and jump to the other; the two chains then
+    cross twice, each following the other's ring between the crossings, on edges that turn
+    sharply (`SWITCH_TURN`). Swapping those
+    stretches gives each chain its own ring back; the swap is kept only when neither new
+    chain crosses itself or the other. Each chain's members go to the nearer new chain.
+    """
+    closed = [k for k, c in enumerate(contours) if c.closed and len(c.points) >= 4]
+    if len(closed) < 2:
+        return contours
+    out = list(contours)
+    rings = [shapely.LinearRing(contours[k].points) for k in closed]
+    tree = shapely.STRtree(rings)
+    first, second = tree.query(rings, predicate="crosses")
+    for p, q in zip(first, second):
+        a, b = closed[p], closed[q]
+        if a >= b or out[a] is not contours[a] or out[b] is not contours[b]:
+            continue
+        swapped = _swap_pair(contours[a], contours[b], points)
+        if swapped is not None:
+            out[a], out[b] = swapped
+    return out
+
+
+def _swap_pair(one: OrderedContour, two: OrderedContour, points: FloatArray
+               ) -> tuple[OrderedContour, OrderedContour] | None:
+    """`swap_crossed_stretches` for one pair of closed chains, or None.
+
+    Cut at the two crossings, each chain is two arcs; the new chains join an arc of one with
+    an arc of the other. Of the two ways to pair them, the one kept has simple chains that do
+    not meet, and the larger smaller area (the wrong pairing leaves a sliver between the
+    rings)."""
+    crossings = _crossings_between(one.points, two.points)
+    if len(crossings) != 2 or min(c[2] for c in crossings) < SWITCH_TURN:
+        return None
+    (i1, j1, _), (i2, j2, _) = sorted(crossings)
+    p = _arcs(one.points, i1, i2)
+    q = _arcs(two.points, *sorted((j1, j2)))
+    if j1 > j2:  # two's arcs then run from the second crossing to the first
+        q = (q[0][::-1], q[1][::-1])
+    best, best_area = None, 0.0
+    for pairing in (((p[0], q[0]), (p[1], q[1])), ((p[0], q[1]), (p[1], q[0]))):
+        rings = [np.vstack([arc, other[::-1]]) for arc, other in pairing]
+        if min(len(r) for r in rings) < 4:
+            continue
+        lines = [shapely.LinearRing(r) for r in rings]
+        if not all(shapely.is_simple(line) for line in lines) or shapely.intersects(*lines):
+            continue
+        area = min(shapely.area(shapely.Polygon(r)) for r in rings)
+        if area > best_area:
+            best, best_area = rings, area
+    if best is None:
+        return None
+    members = np.concatenate([one.members, two.members])
+    dist = np.stack([shapely.distance(shapely.points(points[members]), shapely.LinearRing(r))
+                     for r in best])
+    mine = dist[0] <= dist[1]
+    return (OrderedContour(best[0], True, np.sort(members[mine])),
+            OrderedContour(best[1], True, np.sort(members[~mine])))
+
+
+def _arcs(xy: FloatArray, e1: int, e2: int) -> tuple[FloatArray, FloatArray]:
+    """The two arcs of closed chain ``xy`` cut inside edges ``e1 < e2``, both running from the
+    first cut to the second: the vertices e1 + 1 .. e2, and e1 .. 0, n - 1 .. e2 + 1."""
+    return xy[e1 + 1:e2 + 1], np.concatenate([xy[:e1 + 1][::-1], xy[e2 + 1:][::-1]])
+
+
+def _crossings_between(a: FloatArray, b: FloatArray) -> list[tuple[int, int, float]]:
+    """(edge of a, edge of b, turn in degrees) where closed chains a and b cross; the turn is
+    the smaller of the two crossing edges' sharpest turn from an edge beside it."""
+    seg = [shapely.linestrings(np.stack([xy, np.roll(xy, -1, axis=0)], axis=1)) for xy in (a, b)]
+    i, j = shapely.STRtree(seg[1]).query(seg[0], predicate="crosses")
+    turn_a, turn_b = _edge_turns(a), _edge_turns(b)
+    return [(int(e), int(f), float(min(turn_a[e], turn_b[f]))) for e, f in zip(i, j)]
+
+
+def _edge_turns(xy: FloatArray) -> FloatArray:
+    """Per edge of closed chain ``xy``: the larger turn (degrees) to the edge before or after."""
+    d = np.roll(xy, -1, axis=0) - xy
+    d /= np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-300)
+    turn = np.degrees(np.arccos(np.clip(np.einsum("ij,ij->i", d, np.roll(d, -1, axis=0)),
+                                        -1.0, 1.0)))  # edge i to edge i + 1
+    return np.maximum(turn, np.roll(turn, 1))
 
 
 def split_at_crossings(contours: list[OrderedContour], points: FloatArray
