@@ -99,14 +99,13 @@ def _area_kept(verts: FloatArray, section: FloatArray, points: FloatArray, toler
     """
     if len(verts) < 3:
         return None
-    ring = shapely.Polygon(verts)
-    signed = shapely.area(ring) * (1 if shapely.is_ccw(shapely.LinearRing(verts)) else -1)
-    perimeter = shapely.length(ring)
+    signed = Contour(verts, True).signed_area
+    perimeter = polyline_length(verts, True)
     if signed == 0 or perimeter == 0:
         return None
     room = (1 - AREA_SHARE) * tolerance
-    offset = float(np.clip((shapely.area(shapely.Polygon(section)) - abs(signed)) / perimeter,
-                           -room, room))
+    target = abs(Contour(section, True).signed_area)
+    offset = float(np.clip((target - abs(signed)) / perimeter, -room, room))
     edge = np.roll(verts, -1, axis=0) - verts
     normal = np.column_stack([edge[:, 1], -edge[:, 0]]) * np.sign(signed)  # outward
     normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-300)

@@ -125,17 +125,36 @@ def regression_step(xy: FloatArray, atoms: Atoms, reach: float
     return centroid + along[:, None] * tangent, tangent, ratio, spread
 
 
-def perpendicular_kurtosis(centre: FloatArray, tangent: FloatArray, atoms: Atoms,
-                            reach: float) -> FloatArray:
-    """Kurtosis (m4 / m2**2) of the offsets across each line (``centre``, ``tangent``) of the
-    points within ``reach`` of its centre: 3 for Gaussian scatter, 1.8 for a flat band, 1 for
-    two sharp walls side by side."""
+@dataclass(frozen=True)
+class Offsets:
+    """The points within a reach of each line (centre, tangent): for each pair, the line it
+    belongs to (``owner``), the atom (``atom``), the atom's weight and its offset across."""
+
+    owner: IntArray
+    atom: IntArray
+    weight: FloatArray
+    offset: FloatArray
+    lines: int
+
+
+def perpendicular_offsets(centre: FloatArray, tangent: FloatArray, atoms: Atoms, reach: float
+                          ) -> Offsets:
+    """Offsets across each line (``centre``, ``tangent``) of the atoms within ``reach``."""
     pairs = cKDTree(centre).sparse_distance_matrix(atoms.tree, reach, output_type="ndarray")
     owner, idx = pairs["i"], pairs["j"]
     normal = np.column_stack([-tangent[:, 1], tangent[:, 0]])
     offset = np.einsum("nd,nd->n", atoms.xy[idx] - centre[owner], normal[owner])
-    w = atoms.weight[idx]
-    total = np.maximum(np.bincount(owner, w, len(centre)), 1e-300)
-    m2 = np.bincount(owner, w * offset**2, len(centre)) / total
-    m4 = np.bincount(owner, w * offset**4, len(centre)) / total
+    return Offsets(owner, idx, atoms.weight[idx], offset, len(centre))
+
+
+def perpendicular_kurtosis(centre: FloatArray, tangent: FloatArray, atoms: Atoms,
+                            reach: float, offsets: Offsets | None = None) -> FloatArray:
+    """Kurtosis (m4 / m2**2) of the offsets across each line (``centre``, ``tangent``) of the
+    points within ``reach`` of its centre: 3 for Gaussian scatter, 1.8 for a flat band, 1 for
+    two sharp walls side by side. ``offsets``: those offsets, when already measured."""
+    o = perpendicular_offsets(centre, tangent, atoms, reach) if offsets is None else offsets
+    owner, offset, w, k = o.owner, o.offset, o.weight, o.lines
+    total = np.maximum(np.bincount(owner, w, k), 1e-300)
+    m2 = np.bincount(owner, w * offset**2, k) / total
+    m4 = np.bincount(owner, w * offset**4, k) / total
     return np.divide(m4, m2**2, out=np.zeros_like(m4), where=m2**2 > 0)

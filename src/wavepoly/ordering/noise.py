@@ -17,6 +17,7 @@ from .neighbourhoods import (
     cell_atoms,
     cells,
     perpendicular_kurtosis,
+    perpendicular_offsets,
     regression_step,
 )
 from .walls import two_walls_spread
@@ -87,10 +88,11 @@ def noise_level(seeds: FloatArray, atoms: Atoms, radius: float, sample: int = NO
         xy = seeds[pick]
         for _ in range(2):
             xy, tangent, _, spread = regression_step(xy, atoms, window)
-        kurtosis = perpendicular_kurtosis(xy, tangent, atoms, window)
+        offsets = perpendicular_offsets(xy, tangent, atoms, window)
+        kurtosis = perpendicular_kurtosis(xy, tangent, atoms, window, offsets)
         # two walls in one window (rings 3 tolerances apart): the noise is each wall's own
         # scatter, not the spread of both about a line between them
-        two, own = two_walls_spread(xy, tangent, atoms, window, radius)
+        two, own = two_walls_spread(xy, tangent, atoms, window, radius, offsets)
         spread = np.where(two, own, spread)
         noise = float(np.median(np.where((kurtosis >= NOISE_KURTOSIS) | two, spread, 0.0)))
         # a band that fills the window from side to side may be noise wider than the window

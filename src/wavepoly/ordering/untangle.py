@@ -20,6 +20,7 @@ import shapely
 
 from ..types import FloatArray, IntArray, OrderedContour
 from ..validity import split_at_crossings_of
+from .marching import turning
 
 #: Rounds of 2-opt moves; each round reverses every crossing run that no other run overlaps,
 #: and real chains are simple after a few rounds (the chain shortens every time).
@@ -155,12 +156,9 @@ def _crossings_between(a: FloatArray, b: FloatArray) -> list[tuple[int, int, flo
 
 
 def _edge_turns(xy: FloatArray) -> FloatArray:
-    """Per edge of closed chain ``xy``: the larger turn (degrees) to the edge before or after."""
-    d = np.roll(xy, -1, axis=0) - xy
-    d /= np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-300)
-    turn = np.degrees(np.arccos(np.clip(np.einsum("ij,ij->i", d, np.roll(d, -1, axis=0)),
-                                        -1.0, 1.0)))  # edge i to edge i + 1
-    return np.maximum(turn, np.roll(turn, 1))
+    """Per edge of closed chain ``xy``: the larger turn (degrees) at its two vertices."""
+    at_vertex = turning(xy, True, step=1)  # edge i runs from vertex i to vertex i + 1
+    return np.maximum(at_vertex, np.roll(at_vertex, -1))
 
 
 def split_at_crossings(contours: list[OrderedContour], points: FloatArray

@@ -19,7 +19,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..types import FloatArray
-from .neighbourhoods import Atoms, Nodes
+from .neighbourhoods import Atoms, Nodes, Offsets, perpendicular_offsets
 
 #: A neighbourhood is tested when its perpendicular spread exceeds this many radii: two walls
 #: a gap d apart spread d / 2, and walls closer than one radius are one curve to the tolerance.
@@ -71,11 +71,12 @@ def split_two_walls(nodes: Nodes, atoms: Atoms, radius: float) -> Nodes:
 
 
 def two_walls_spread(centre: FloatArray, tangent: FloatArray, atoms: Atoms, reach: float,
-                     radius: float) -> tuple[np.ndarray, FloatArray]:
+                     radius: float, offsets: Offsets | None = None
+                     ) -> tuple[np.ndarray, FloatArray]:
     """Which lines (``centre``, ``tangent``) have two walls side by side within ``reach``, and
     the RMS spread of the points about their own wall (`split_two_walls`'s tests, without
-    the run along the walls)."""
-    sides = _sides(centre, tangent, atoms, reach)
+    the run along the walls). ``offsets``: the points' offsets, when already measured."""
+    sides = _sides(centre, tangent, atoms, reach, offsets)
     share = sides[4]
     own = np.sqrt((1 - share) * sides[2] ** 2 + share * sides[3] ** 2)
     return _two_walls(sides, radius), own
@@ -90,21 +91,17 @@ def _two_walls(sides: tuple[FloatArray, ...], radius: float) -> np.ndarray:
             & (middle < EMPTY_MIDDLE))
 
 
-def _sides(centre: FloatArray, tangent: FloatArray, atoms: Atoms, reach: float
-           ) -> tuple[FloatArray, ...]:
+def _sides(centre: FloatArray, tangent: FloatArray, atoms: Atoms, reach: float,
+           offsets: Offsets | None = None) -> tuple[FloatArray, ...]:
     """Across each line (``centre``, ``tangent``), of the points within ``reach``: the mean
     offset and RMS spread of each side, and the share of the weight on the high side. The
     sides are split where two-means puts them (a light ghost wall beside a dense one would
     lose some of the dense wall's points to a split at the mean). Last, the share of the
     weight in the middle half of the gap between the sides' means."""
-    k = len(centre)
-    pairs = cKDTree(centre).sparse_distance_matrix(atoms.tree, reach, output_type="ndarray")
-    owner, idx = pairs["i"], pairs["j"]
-    normal = np.column_stack([-tangent[:, 1], tangent[:, 0]])
-    offset = np.einsum("nd,nd->n", atoms.xy[idx] - centre[owner], normal[owner])
-    w = atoms.weight[idx]
-    sc = atoms.scatter[idx]  # each atom's own scatter, summed over its points
-    n = normal[owner]
+    o = perpendicular_offsets(centre, tangent, atoms, reach) if offsets is None else offsets
+    owner, offset, w, k = o.owner, o.offset, o.weight, o.lines
+    sc = atoms.scatter[o.atom]  # each atom's own scatter, summed over its points
+    n = np.column_stack([-tangent[owner, 1], tangent[owner, 0]])
     inner = n[:, 0] ** 2 * sc[:, 0] + 2 * n[:, 0] * n[:, 1] * sc[:, 1] + n[:, 1] ** 2 * sc[:, 2]
     total = np.maximum(np.bincount(owner, w, k), 1e-300)
     mean = np.bincount(owner, w * offset, k) / total
