@@ -89,11 +89,11 @@ def test_invalid_results_are_not_written(tmp_path):
 
 
 @st.composite
-def glyph_union(draw):
+def glyph_union(draw, tolerances=(0.02, 0.04, 0.08), noise=(0.0, 0.25)):
     """A few glyphs side by side, some close enough for their outlines to nearly touch."""
     text = draw(st.text(alphabet="BOSW8&kx%e", min_size=1, max_size=3))
-    eps = draw(st.sampled_from([0.02, 0.04, 0.08]))
-    noise = draw(st.floats(0.0, 0.25)) * eps
+    eps = draw(st.sampled_from(tolerances))
+    noise = draw(st.floats(*noise)) * eps
     seed = draw(st.integers(0, 10**6))
     pts = sample_rings(glyph_outlines(text, height=1.0).rings, spacing=eps / 3, noise=noise,
                        seed=seed)
@@ -105,6 +105,19 @@ def glyph_union(draw):
 def test_property_valid_and_within_tolerance_on_glyphs(case):
     pts, eps = case
     _valid(pts, wavepoly.fit(pts, eps))
+
+
+@settings(max_examples=10, deadline=None)
+@given(glyph_union(tolerances=(0.01, 0.02), noise=(0.15, 0.25)))
+def test_property_clean_samplings_have_no_outliers(case):
+    """Noise at most ε / 4 on glyphs 50-100 tolerances high: valid, within the tolerance,
+    and no point left out as an outlier. (On glyphs 12 tolerances high the windows that
+    measure the noise hold corners and both walls of a stroke, and the scatter measured is
+    not the noise.)"""
+    pts, eps = case
+    result = wavepoly.fit(pts, eps)
+    _valid(pts, result)
+    assert len(result.outliers) == 0
 
 
 @settings(max_examples=10, deadline=None)
@@ -168,6 +181,20 @@ def test_small_loops_and_strokes_are_contours_not_outliers():
     _valid(pts, result)
     assert len(result.outliers) == 0
     assert sorted(c.closed for c in result.contours) == [False, True, True]
+
+
+@pytest.mark.parametrize("char, spacing, noise, eps, seed", [
+    ("0", 0.02, 0.025, 0.1, 6),  # a noise point 1.07 ε from the true glyph
+    ("m", 0.05, 0.0, 0.12, 5),  # a notch tip the chain rounded off by 1.25 ε
+    ("a", 0.02, 0.02, 0.1, 4)])  # the acute tip of the tail
+def test_clean_samplings_have_no_outliers(char, spacing, noise, eps, seed):
+    """Members a little beyond the radius from the ordered chain, on a scan whose scatter is at
+    most ε / 4, are covered by the polygon, not listed as outliers."""
+    pts = sample_rings(glyph_outlines(char, height=20.0).rings, spacing=spacing, noise=noise,
+                       seed=seed)
+    result = wavepoly.fit(pts, eps)
+    _valid(pts, result)
+    assert len(result.outliers) == 0
 
 
 def test_a_tolerance_below_the_scatter_is_said_and_a_better_one_suggested():

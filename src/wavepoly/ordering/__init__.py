@@ -26,7 +26,8 @@ Python loop runs over points:
    (`marching`, `joining`).
 4. Every input point belongs to the contour of its nearest ordered point (``members``); points of
    contours too short to be curves, or farther than ``radius`` from their contour, are outliers
-   (`contours`).
+   (`contours`); on a clean sampling (scatter at most a quarter of the radius) a point within
+   two radii of its contour is a member, the tail of that scatter, which the polygon covers.
 
 All neighbour queries use `scipy.spatial.cKDTree`; the cost is O(n log n).
 """

@@ -33,6 +33,12 @@ CORNER_GROUP = 3
 #: corner are, strays about a dense noisy wall are not (inserting them zigzagged the walls of
 #: the Intel map).
 CORNER_SHARE = 0.15
+#: A scan whose scatter about its curves is at most this fraction of the radius is a clean
+#: sampling (the issue's σ ≤ ε / 4): a member farther than the radius from its chain is then
+#: the tail of that scatter (1.07 ε from the true glyph at σ = ε / 4) or a feature the chain
+#: rounded off, not a stray, and it stays a member out to `MEMBER_REACH`. On a noisier scan
+#: (the Intel map at 0.1 has 0.28) strays about a wall are outliers beyond one radius.
+CLEAN_NOISE = 0.25
 #: Rounds of corner insertion: each halves the gap a rounded corner leaves.
 CORNER_ROUNDS = 4
 
@@ -43,9 +49,10 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
     """Contours from chains of at least ``min_points`` nodes, each with its member points.
 
     A point belongs to the contour of its nearest node among those contours (within
-    `MEMBER_REACH` radii;
-    farther points, and the points of shorter chains that no contour is near, are outliers).
-    The ``absorbed`` nodes of dropped side chains count as nodes of the contour nearest them.
+    `MEMBER_REACH` radii; farther points, and the points of shorter chains that no contour is
+    near, are outliers). The ``absorbed`` nodes of dropped side chains count as nodes of the
+    contour nearest them. A member farther than the radius from its contour's chain (once the
+    cut corners are restored) is an outlier too, unless the scan is clean (`CLEAN_NOISE`).
     """
     chains = [c for c in chains if len(c) >= min_points]
     if not chains:
@@ -64,6 +71,7 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
     contours: list[OrderedContour] = []
     outliers = [np.flatnonzero(chain_of_point < 0)]
     first_node = np.concatenate([[0], np.cumsum([len(c) for c in chains])])
+    outlier_gap = (MEMBER_REACH if nodes.noise <= CLEAN_NOISE * radius else 1.0) * radius
     for c, chain in enumerate(chains):
         seq, closed = chain.nodes, chain.closed
         members = order[bounds[c]:bounds[c + 1]]
@@ -78,7 +86,8 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
         vertex[own] = _vertex_index(nodes.xy[seq], xy)[at[own]]
         sure = (vertex >= 0) & (dist[members] <= CORNER_GAP * radius)
         unsure = np.flatnonzero(~sure)
-        xy, far = _cover_cut_corners(xy, pts[members[unsure]], closed, radius, vertex[sure])
+        xy, far = _cover_cut_corners(xy, pts[members[unsure]], closed, radius, vertex[sure],
+                                     outlier_gap)
         xy = untangle(xy, closed)
         inside = np.ones(len(members), dtype=bool)
         inside[unsure[far]] = False
@@ -97,8 +106,8 @@ def _vertex_index(chain: FloatArray, xy: FloatArray) -> IntArray:
 
 
 def _cover_cut_corners(xy: FloatArray, members: FloatArray, closed: bool, radius: float,
-                       near_vertex: IntArray | None = None, rounds: int = CORNER_ROUNDS
-                       ) -> tuple[FloatArray, IntArray]:
+                       near_vertex: IntArray | None = None, outlier_gap: float | None = None,
+                       rounds: int = CORNER_ROUNDS) -> tuple[FloatArray, IntArray]:
     """Insert member points where a group of them lies off the chain (a corner it cut).
 
     Where `CORNER_GROUP` points tied to one chain segment are farther than `CORNER_GAP` radii
@@ -108,7 +117,8 @@ def _cover_cut_corners(xy: FloatArray, members: FloatArray, closed: bool, radius
     strays about a dense wall (a few points among the many of each stretch).
     ``near_vertex`` holds, for further points of the chain not in ``members``, the vertex each
     lies within the gap of: they count half to each segment beside it.
-    Returns the new chain and the members still farther than ``radius`` from it.
+    Returns the new chain and the members still farther than ``outlier_gap`` (default: the
+    radius) from it.
     """
     near_vertex = np.empty(0, dtype=np.intp) if near_vertex is None else near_vertex
     ring = closed and len(xy) >= 3
@@ -118,14 +128,14 @@ def _cover_cut_corners(xy: FloatArray, members: FloatArray, closed: bool, radius
         far = np.flatnonzero(dist > gap)
         segs = np.empty(0, dtype=np.intp)
         if len(far) >= CORNER_GROUP and round_ < rounds:
-            counts = np.bincount(seg[far], minlength=len(xy))
             worst = np.full(len(xy), -1)
             order = far[np.argsort(dist[far])]
             worst[seg[order]] = order  # the last write per segment is its farthest point
             total = np.bincount(seg, minlength=len(xy)) + _beside(near_vertex, len(xy), ring)
+            counts = np.bincount(seg[far], minlength=len(xy))
             segs = np.flatnonzero(_cut_corner(counts, total))
         if not len(segs):
-            return xy, far[dist[far] > radius]
+            return xy, far[dist[far] > (radius if outlier_gap is None else outlier_gap)]
         near_vertex = near_vertex + np.searchsorted(segs + 1, near_vertex, side="right")
         xy = np.insert(xy, segs + 1, members[worst[segs]], axis=0)
     raise AssertionError("unreachable")  # pragma: no cover
