@@ -197,6 +197,21 @@ def test_clean_samplings_have_no_outliers(char, spacing, noise, eps, seed):
     assert len(result.outliers) == 0
 
 
+@pytest.mark.parametrize("char, family, spacing, noise, eps, seed", [
+    ("B", "DejaVu Sans", 0.02, 0.02, 0.1, 4),  # the waist's tip came out as an open stroke
+    ("8", "DejaVu Serif", 0.03, 0.01, 0.08, 3)])  # ... or as 8 outliers 2.7 radii beyond
+def test_a_notch_is_followed_to_its_tip(char, family, spacing, noise, eps, seed):
+    """Where two walls of an outline converge to a notch, the march turns back a few radii
+    before the tip; the closed outline still reaches it (the right number of closed
+    outlines, no open piece, no outliers)."""
+    shape = glyph_outlines(char, height=20.0, family=family)
+    pts = sample_rings(shape.rings, spacing=spacing, noise=noise, seed=seed)
+    result = wavepoly.fit(pts, eps)
+    _valid(pts, result)
+    assert [c.closed for c in result.contours] == [True] * len(shape.rings)
+    assert len(result.outliers) == 0
+
+
 def test_a_tolerance_below_the_scatter_is_said_and_a_better_one_suggested():
     rng = np.random.default_rng(2)
     t = rng.uniform(0, 2 * np.pi, 20000)

@@ -28,6 +28,8 @@ Python loop runs over points:
    contours too short to be curves, or farther than ``radius`` from their contour, are outliers
    (`contours`); on a clean sampling (scatter at most a quarter of the radius) a point within
    two radii of its contour is a member, the tail of that scatter, which the polygon covers.
+   A group of outliers or a short stroke beyond a closed contour's sharp turn is the tip of a
+   notch the march turned back from: the turn's vertex moves out to it (`tips`).
 
 All neighbour queries use `scipy.spatial.cKDTree`; the cost is O(n log n).
 """

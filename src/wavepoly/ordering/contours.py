@@ -16,6 +16,7 @@ from ..geometry import nearest_segment
 from ..types import Chain, FloatArray, IntArray, OrderedContour
 from .marching import CORNER_TURN, turning
 from .neighbourhoods import Nodes
+from .tips import extend_tips
 from .untangle import split_at_crossings, swap_crossed_stretches, untangle
 
 #: Chains shorter than this cannot hold a corner with two legs of two points each.
@@ -93,8 +94,10 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
         inside[unsure[far]] = False
         outliers.append(members[~inside])
         contours.append(OrderedContour(xy, closed, members[inside]))  # sorted: stable argsort
+    contours, outliers = extend_tips(contours, np.sort(np.concatenate(outliers)).astype(np.intp),
+                                     pts, radius, outlier_gap)
     contours = split_at_crossings(swap_crossed_stretches(contours, pts), pts)
-    return contours, np.sort(np.concatenate(outliers)).astype(np.intp)
+    return contours, outliers
 
 
 def _vertex_index(chain: FloatArray, xy: FloatArray) -> IntArray:

@@ -1,0 +1,165 @@
+"""Tips the march stopped short of: a closed contour's notch or spike carried out to its end.
+
+Where two walls of a closed outline converge (the waist of a 'B' or a serif '8', a
+tentacle's tip), the neighbourhoods span both walls for the last few radii, and the march
+turns back before the end. What is left beyond the turn is a small group of points, either
+outliers or a short open stroke of its own. A group that lies beyond a sharp turn of a closed
+contour, along the turn's bisector, is that contour's tip: the turn's vertex moves out to the
+group's farthest point, and the group's points become members of the contour.
+
+The stroke must be shorter than `TIP_STROKE` radii: a longer one is a contour of its own (the
+issue's "a stroke of at least 4 tolerances is a contour"), and a T junction's stem meets a
+straight stretch, not a sharp turn.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import shapely
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+from scipy.spatial import cKDTree
+
+from ..geometry import nearest_segment
+from ..types import FloatArray, IntArray, OrderedContour
+from .marching import turning
+
+#: A tip's vertex turns by at least this (degrees, between the chords two vertices away; the
+#: rounded tip of the 'B' waist, a 40 degree wedge, turns by 98 there). A group beyond a
+#: lesser corner is a corner the march cut, and moving the vertex out to it is right too.
+TIP_TURN = 60.0
+#: The group lies within this angle (degrees) of the turn's outward bisector.
+TIP_CONE = 45.0
+#: ... and its nearest point within this many radii of the vertex.
+TIP_REACH = 3.0
+#: Groups of fewer points are strays, not a tip.
+TIP_GROUP = 3
+#: The moved tip keeps this many radii from every other contour: each polygon may lie up to
+#: a tolerance from its contour, and two could meet nearer (a laser map's thick wall, whose
+#: tip reached over to the next wall, was then split at the crossing).
+TIP_CLEARANCE = 2.0
+#: Open strokes longer than this many radii are contours of their own, never a tip.
+TIP_STROKE = 4.0
+
+
+def extend_tips(contours: list[OrderedContour], outliers: IntArray, pts: FloatArray,
+                radius: float, gap: float) -> tuple[list[OrderedContour], IntArray]:
+    """Closed contours carried out to the groups of points beyond their sharp turns.
+
+    The groups are clusters of ``outliers`` (points within a radius of each other) and the
+    members of short open contours. A group is taken when it lies beyond a vertex that turns
+    by `TIP_TURN`, within `TIP_CONE` of the turn's bisector and `TIP_REACH` radii of the
+    vertex, and when the contour with the vertex moved to the group's farthest point is still a
+    simple polygon with the group and its own members within ``gap`` of it.
+
+    Returns the contours (a taken stroke removed) and the remaining outliers.
+    """
+    rings = [k for k, c in enumerate(contours) if c.closed and len(c.points) >= 4]
+    if not rings:
+        return contours, outliers
+    groups = [(g, -1) for g in _outlier_groups(outliers, pts, radius)] + [
+        (c.members, k) for k, c in enumerate(contours)
+        if not c.closed and _stroke_length(c.points) < TIP_STROKE * radius
+        and len(c.members) >= TIP_GROUP]
+    contours = list(contours)
+    lines = shapely.STRtree([_line(c) for c in contours])
+    taken: list[IntArray] = []
+    dropped: set[int] = set()
+    for group, stroke in groups:
+        xy = pts[group]
+        k, v = _tip_vertex(contours, rings, xy, radius)
+        if k < 0:
+            continue
+        ring = contours[k]
+        new_xy = _extended(ring.points, v, xy)
+        if new_xy is None or not _covers(new_xy, pts[ring.members], xy, gap):
+            continue
+        n = len(new_xy)
+        edges = shapely.LineString(new_xy[[(v - 1) % n, v, (v + 1) % n]])
+        near = lines.query(edges, predicate="dwithin", distance=TIP_CLEARANCE * radius)
+        if set(near.tolist()) - {k, stroke}:
+            continue  # the polygons of the two could meet
+        contours[k] = OrderedContour(new_xy, True, np.union1d(ring.members, group))
+        taken.append(group)
+        dropped.add(stroke)
+    if not taken:
+        return contours, outliers
+    contours = [c for k, c in enumerate(contours) if k not in dropped]
+    return contours, np.setdiff1d(outliers, np.concatenate(taken))
+
+
+def _tip_vertex(contours: list[OrderedContour], rings: list[int], group: FloatArray,
+                radius: float) -> tuple[int, int]:
+    """The closed contour and vertex within `TIP_REACH` radii of ``group`` that turns most
+    sharply, or (-1, -1)."""
+    best, turn = (-1, -1), TIP_TURN
+    reach = TIP_REACH * radius
+    lo, hi = group.min(axis=0) - reach, group.max(axis=0) + reach
+    tree = cKDTree(group)
+    for k in rings:
+        ring = contours[k].points
+        inside = np.flatnonzero(((ring >= lo) & (ring <= hi)).all(axis=1))
+        if not len(inside):
+            continue
+        near = inside[tree.query(ring[inside], distance_upper_bound=reach)[0] <= reach]
+        if not len(near):
+            continue
+        angle = turning(ring, True)[near]
+        if angle.max() >= turn:
+            best, turn = (k, int(near[np.argmax(angle)])), float(angle.max())
+    return best
+
+
+def _outlier_groups(outliers: IntArray, pts: FloatArray, radius: float) -> list[IntArray]:
+    """Clusters of at least `TIP_GROUP` outliers, each point within a radius of another."""
+    if len(outliers) < TIP_GROUP:
+        return []
+    pairs = cKDTree(pts[outliers]).query_pairs(radius, output_type="ndarray")
+    n = len(outliers)
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+    _, label = connected_components(graph, directed=False)
+    sizes = np.bincount(label)
+    return [outliers[label == g] for g in np.flatnonzero(sizes >= TIP_GROUP)]
+
+
+def _line(c: OrderedContour) -> shapely.Geometry:
+    if c.closed and len(c.points) >= 3:
+        return shapely.LinearRing(c.points)
+    return shapely.LineString(c.points) if len(c.points) >= 2 else shapely.Point(c.points[0])
+
+
+def _stroke_length(xy: FloatArray) -> float:
+    return float(np.linalg.norm(np.diff(xy, axis=0), axis=1).sum())
+
+
+def _extended(ring: FloatArray, v: int, group: FloatArray) -> FloatArray | None:
+    """The ring with vertex ``v`` moved to the point of ``group`` farthest beyond it, if ``v``
+    is a sharp turn and the group lies along its outward bisector; else None."""
+    n = len(ring)
+    before, after = ring[(v - 2) % n], ring[(v + 2) % n]
+    outward = _unit(ring[v] - before) + _unit(ring[v] - after)
+    if np.linalg.norm(outward) == 0:
+        return None
+    outward = _unit(outward)
+    towards = group.mean(axis=0) - ring[v]
+    if np.linalg.norm(towards) == 0:
+        return None
+    if float(_unit(towards) @ outward) < np.cos(np.radians(TIP_CONE)):
+        return None
+    far = group[np.argmax((group - ring[v]) @ outward)]
+    if float((far - ring[v]) @ outward) <= 0:
+        return None
+    new = ring.copy()
+    new[v] = far
+    return new if shapely.Polygon(new).is_valid else None
+
+
+def _covers(ring: FloatArray, members: FloatArray, group: FloatArray, gap: float) -> bool:
+    """Do the ring's own members and the group all lie within ``gap`` of the ring?"""
+    pts = np.vstack([members, group])
+    return bool(nearest_segment(pts, ring, True)[1].max(initial=0.0) <= gap)
+
+
+def _unit(v: FloatArray) -> FloatArray:
+    n = float(np.linalg.norm(v))
+    return v / n if n > 0 else v
