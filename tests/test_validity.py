@@ -212,6 +212,17 @@ def test_a_notch_is_followed_to_its_tip(char, family, spacing, noise, eps, seed)
     assert len(result.outliers) == 0
 
 
+def test_a_loop_through_strays_does_not_cut_an_outline_open():
+    """Sparse noisy samples (spacing ε / 3, noise ε / 4): the march closed a loop of 4 nodes
+    through strays beside the 'g', which crossed its outline; both were split at the
+    crossings and the outline came out as 3 open pieces."""
+    shape = glyph_outlines("g", height=20.0)
+    pts = sample_rings(shape.rings, spacing=0.03, noise=0.025, seed=11)
+    result = wavepoly.fit(pts, 0.1)
+    _valid(pts, result)
+    assert [c.closed for c in result.contours] == [True, True]
+
+
 def test_a_tolerance_below_the_scatter_is_said_and_a_better_one_suggested():
     rng = np.random.default_rng(2)
     t = rng.uniform(0, 2 * np.pi, 20000)

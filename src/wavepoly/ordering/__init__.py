@@ -41,7 +41,14 @@ import numpy as np
 from ..types import FloatArray, Ordering
 from ..validate import check_tolerance, validate_points
 from .contours import contours_of
-from .marching import chains_of, drop_side_chains, link_nodes, thin, wide_nodes
+from .marching import (
+    chains_of,
+    drop_crossing_loops,
+    drop_side_chains,
+    link_nodes,
+    thin,
+    wide_nodes,
+)
 from .neighbourhoods import Nodes, perpendicular_kurtosis
 from .noise import noise_adaptive_nodes
 from .spacing import curve_spacing, median_spacing, spacing_bound
@@ -109,6 +116,7 @@ def order_points(points: FloatArray, radius: float, *, seed: int = 0, min_points
                   nodes.reach, nodes.noise)
     links = link_nodes(nodes, radius)
     chains, absorbed = drop_side_chains(nodes, chains_of(links, len(nodes.xy)))
+    chains, absorbed = drop_crossing_loops(nodes, chains, absorbed)
     wide = wide_nodes(nodes, chains, radius)
     two_walls = perpendicular_kurtosis(nodes.xy[wide], nodes.tangent[wide], atoms,
                                        nodes.reach) < MERGE_KURTOSIS

@@ -16,6 +16,7 @@ References
 from __future__ import annotations
 
 import numpy as np
+import shapely
 from scipy.ndimage import maximum_filter1d
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components, depth_first_order
@@ -146,6 +147,33 @@ def drop_side_chains(nodes: Nodes, chains: list[Chain], short: int = SIDE_CHAIN_
     absorbed = [c.nodes for c, d in zip(chains, drop) if d]
     return ([chain for chain, d in zip(chains, drop) if not d],
             np.concatenate(absorbed) if absorbed else np.empty(0, dtype=np.intp))
+
+
+def drop_crossing_loops(nodes: Nodes, chains: list[Chain], absorbed: IntArray,
+                        short: int = SIDE_CHAIN_NODES) -> tuple[list[Chain], IntArray]:
+    """Closed chains of fewer than ``short`` nodes that cross a longer chain: a loop the march
+    made through strays beside a curve (sparse noisy samples), not a ring, for no ring of a
+    slice crosses another's outline. Kept, it was split with the curve at the crossings, and
+    a closed outline came out as open pieces. Their nodes join ``absorbed``.
+    """
+    sizes = np.array([len(c) for c in chains])
+    loops = [k for k, c in enumerate(chains) if c.closed and 3 <= len(c) < short]
+    if not loops or len(chains) < 2:
+        return chains, absorbed
+    lines = [shapely.LineString(nodes.xy[np.append(c.nodes, c.nodes[0])] if c.closed
+                                else nodes.xy[c.nodes]) if len(c) >= 2 else shapely.Point(
+        nodes.xy[c.nodes[0]]) for c in chains]
+    tree = shapely.STRtree(lines)
+    drop = set()
+    for k in loops:
+        hits = tree.query(lines[k], predicate="intersects")
+        if (sizes[hits] > sizes[k]).any():
+            drop.add(k)
+    if not drop:
+        return chains, absorbed
+    dropped = [chains[k].nodes for k in sorted(drop)]
+    return ([c for k, c in enumerate(chains) if k not in drop],
+            np.concatenate([absorbed, *dropped]).astype(np.intp))
 
 
 def turning(xy: FloatArray, closed: bool, step: int = 2) -> FloatArray:
