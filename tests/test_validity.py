@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -221,6 +222,19 @@ def test_a_loop_through_strays_does_not_cut_an_outline_open():
     result = wavepoly.fit(pts, 0.1)
     _valid(pts, result)
     assert [c.closed for c in result.contours] == [True, True]
+
+
+def test_parts_of_an_outline_that_nearly_touch_make_one_outline():
+    """The arms of a STIX 'k' meet its stem through a slit narrower than the tolerance: the
+    march ran along the stem across the slit and the arms closed a ring of their own, sharing
+    the stem's edge; split at the crossings, the 'k' came out as 3 open pieces."""
+    shape = glyph_outlines("k", height=20.0, family="STIXGeneral")
+    pts = sample_rings(shape.rings, spacing=0.05, noise=0.02, seed=12)
+    result = wavepoly.fit(pts, 0.3)
+    _valid(pts, result)
+    assert [c.closed for c in result.contours] == [True]
+    assert shapely.Polygon(result.contours[0].vertices).area == pytest.approx(
+        shapely.Polygon(shape.rings[0]).area, rel=0.05)
 
 
 def test_a_tolerance_below_the_scatter_is_said_and_a_better_one_suggested():

@@ -17,7 +17,12 @@ from ..types import Chain, FloatArray, IntArray, OrderedContour
 from .marching import CORNER_TURN, turning
 from .neighbourhoods import Nodes
 from .tips import extend_tips
-from .untangle import split_at_crossings, swap_crossed_stretches, untangle
+from .untangle import (
+    merge_overlapping_rings,
+    split_at_crossings,
+    swap_crossed_stretches,
+    untangle,
+)
 
 #: Chains shorter than this cannot hold a corner with two legs of two points each.
 MIN_CORNER_NODES = 6
@@ -96,7 +101,8 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
         contours.append(OrderedContour(xy, closed, members[inside]))  # sorted: stable argsort
     contours, outliers = extend_tips(contours, np.sort(np.concatenate(outliers)).astype(np.intp),
                                      pts, radius, outlier_gap)
-    contours = split_at_crossings(swap_crossed_stretches(contours, pts), pts)
+    contours = merge_overlapping_rings(swap_crossed_stretches(contours, pts))
+    contours = split_at_crossings(contours, pts)
     return contours, outliers
 
 
