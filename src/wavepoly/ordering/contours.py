@@ -77,7 +77,8 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
     contours: list[OrderedContour] = []
     outliers = [np.flatnonzero(chain_of_point < 0)]
     first_node = np.concatenate([[0], np.cumsum([len(c) for c in chains])])
-    outlier_gap = (MEMBER_REACH if nodes.noise <= CLEAN_NOISE * radius else 1.0) * radius
+    clean = nodes.noise <= CLEAN_NOISE * radius
+    outlier_gap = (MEMBER_REACH if clean else 1.0) * radius
     for c, chain in enumerate(chains):
         seq, closed = chain.nodes, chain.closed
         members = order[bounds[c]:bounds[c + 1]]
@@ -100,7 +101,7 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
         outliers.append(members[~inside])
         contours.append(OrderedContour(xy, closed, members[inside]))  # sorted: stable argsort
     contours, outliers = extend_tips(contours, np.sort(np.concatenate(outliers)).astype(np.intp),
-                                     pts, radius, outlier_gap)
+                                     pts, radius, outlier_gap, clean)
     contours = merge_overlapping_rings(swap_crossed_stretches(contours, pts))
     contours = split_at_crossings(contours, pts)
     return contours, outliers

@@ -3,12 +3,14 @@
 Where two walls of a closed outline converge (the waist of a 'B' or a serif '8', a
 tentacle's tip), the neighbourhoods span both walls for the last few radii, and the march
 turns back before the end. What is left beyond the turn is a small group of points, either
-outliers or a short open stroke of its own. A group that lies beyond a sharp turn of a closed
+outliers, a short open stroke or a little loop of its own. A group that lies beyond a sharp
+turn of a closed
 contour, along the turn's bisector, is that contour's tip: the turn's vertex moves out to the
 group's farthest point, and the group's points become members of the contour.
 
-The stroke must be shorter than `TIP_STROKE` radii: a longer one is a contour of its own (the
-issue's "a stroke of at least 4 tolerances is a contour"), and a T junction's stem meets a
+A stroke or loop must span less than `TIP_STROKE` radii: a larger one is a contour of its own
+(the issue's "a loop or a stroke of at least 4 tolerances is a contour"), and a T junction's
+stem meets a
 straight stretch, not a sharp turn.
 """
 
@@ -38,61 +40,69 @@ TIP_GROUP = 3
 #: a tolerance from its contour, and two could meet nearer (a laser map's thick wall, whose
 #: tip reached over to the next wall, was then split at the crossing).
 TIP_CLEARANCE = 2.0
-#: Open strokes longer than this many radii are contours of their own, never a tip.
+#: Strokes and loops spanning this many radii are contours of their own, never a tip.
 TIP_STROKE = 4.0
 
 
 def extend_tips(contours: list[OrderedContour], outliers: IntArray, pts: FloatArray,
-                radius: float, gap: float) -> tuple[list[OrderedContour], IntArray]:
+                radius: float, gap: float, clean: bool = False
+                ) -> tuple[list[OrderedContour], IntArray]:
     """Closed contours carried out to the groups of points beyond their sharp turns.
 
     The groups are clusters of ``outliers`` (points within a radius of each other) and the
-    members of short open contours. A group is taken when it lies beyond a vertex that turns
-    by `TIP_TURN`, within `TIP_CONE` of the turn's bisector and `TIP_REACH` radii of the
+    members of small contours, open or closed. A group is taken when it lies beyond a vertex
+    that turns by `TIP_TURN`, within `TIP_CONE` of the turn's bisector and `TIP_REACH` radii of the
     vertex, and when the contour with the vertex moved to the group's farthest point is still a
-    simple polygon with the group and its own members within ``gap`` of it.
+    simple polygon with the group and its own members within ``gap`` of it. On a ``clean``
+    scan, where a group is real shape (`contours.CLEAN_NOISE`), a group off the bisector is
+    joined by its hull (`_tip_hull`), a little loop counts as a group, and each sharp vertex
+    near a group is tried, not only the sharpest; on a noisy one these may take clutter by a
+    corner (Freiburg lost a closed room to them).
 
-    Returns the contours (a taken stroke removed) and the remaining outliers.
+    Returns the contours (a taken stroke or loop removed) and the remaining outliers.
     """
-    rings = [k for k, c in enumerate(contours) if c.closed and len(c.points) >= 4]
+    small = [_extent(c.points) < TIP_STROKE * radius for c in contours]
+    # only outlines that are no group themselves take a tip: no point is passed on twice
+    rings = [k for k, c in enumerate(contours) if c.closed and len(c.points) >= 4
+             and not small[k]]
     if not rings:
         return contours, outliers
     groups = [(g, -1) for g in _outlier_groups(outliers, pts, radius)] + [
         (c.members, k) for k, c in enumerate(contours)
-        if not c.closed and _stroke_length(c.points) < TIP_STROKE * radius
-        and len(c.members) >= TIP_GROUP]
+        if small[k] and len(c.members) >= TIP_GROUP and (clean or not c.closed)]
     contours = list(contours)
     lines = shapely.STRtree([_line(c) for c in contours])
     taken: list[IntArray] = []
     dropped: set[int] = set()
     for group, stroke in groups:
         xy = pts[group]
-        k, v = _tip_vertex(contours, rings, xy, radius)
-        if k < 0:
-            continue
-        ring = contours[k]
-        new_xy = _extended(ring.points, v, xy)
-        if new_xy is None or not _covers(new_xy, pts[ring.members], xy, gap):
-            continue
-        n = len(new_xy)
-        edges = shapely.LineString(new_xy[[(v - 1) % n, v, (v + 1) % n]])
-        near = lines.query(edges, predicate="dwithin", distance=TIP_CLEARANCE * radius)
-        if set(near.tolist()) - {k, stroke}:
-            continue  # the polygons of the two could meet
-        contours[k] = OrderedContour(new_xy, True, np.union1d(ring.members, group))
-        taken.append(group)
-        dropped.add(stroke)
+        candidates = _tip_candidates(contours, rings, xy, radius)
+        for k, v in candidates if clean else candidates[:1]:
+            new_xy = _tip_moved(contours[k], v, xy, pts, gap)
+            if new_xy is None and clean:
+                new_xy = _tip_hull(contours[k], xy, pts, radius, gap)
+            if new_xy is None:
+                continue
+            change = shapely.Polygon(new_xy).symmetric_difference(
+                shapely.Polygon(contours[k].points)).boundary
+            near = lines.query(change, predicate="dwithin", distance=TIP_CLEARANCE * radius)
+            if set(near.tolist()) - {k, stroke}:
+                continue  # the polygons of the two could meet
+            contours[k] = OrderedContour(new_xy, True, np.union1d(contours[k].members, group))
+            taken.append(group)
+            dropped.add(stroke)
+            break
     if not taken:
         return contours, outliers
     contours = [c for k, c in enumerate(contours) if k not in dropped]
     return contours, np.setdiff1d(outliers, np.concatenate(taken))
 
 
-def _tip_vertex(contours: list[OrderedContour], rings: list[int], group: FloatArray,
-                radius: float) -> tuple[int, int]:
-    """The closed contour and vertex within `TIP_REACH` radii of ``group`` that turns most
-    sharply, or (-1, -1)."""
-    best, turn = (-1, -1), TIP_TURN
+def _tip_candidates(contours: list[OrderedContour], rings: list[int], group: FloatArray,
+                    radius: float) -> list[tuple[int, int]]:
+    """The closed contours' vertices within `TIP_REACH` radii of ``group`` that turn by at
+    least `TIP_TURN`, the sharpest first (a rounded tip spreads its turn over a few)."""
+    found: list[tuple[float, int, int]] = []
     reach = TIP_REACH * radius
     lo, hi = group.min(axis=0) - reach, group.max(axis=0) + reach
     tree = cKDTree(group)
@@ -102,12 +112,9 @@ def _tip_vertex(contours: list[OrderedContour], rings: list[int], group: FloatAr
         if not len(inside):
             continue
         near = inside[tree.query(ring[inside], distance_upper_bound=reach)[0] <= reach]
-        if not len(near):
-            continue
         angle = turning(ring, True)[near]
-        if angle.max() >= turn:
-            best, turn = (k, int(near[np.argmax(angle)])), float(angle.max())
-    return best
+        found += [(float(a), k, int(v)) for a, v in zip(angle, near) if a >= TIP_TURN]
+    return [(k, v) for _, k, v in sorted(found, reverse=True)]
 
 
 def _outlier_groups(outliers: IntArray, pts: FloatArray, radius: float) -> list[IntArray]:
@@ -128,8 +135,9 @@ def _line(c: OrderedContour) -> shapely.Geometry:
     return shapely.LineString(c.points) if len(c.points) >= 2 else shapely.Point(c.points[0])
 
 
-def _stroke_length(xy: FloatArray) -> float:
-    return float(np.linalg.norm(np.diff(xy, axis=0), axis=1).sum())
+def _extent(xy: FloatArray) -> float:
+    """Diagonal of the box around ``xy``."""
+    return float(np.linalg.norm(xy.max(axis=0) - xy.min(axis=0)))
 
 
 def _extended(ring: FloatArray, v: int, group: FloatArray) -> FloatArray | None:
@@ -152,6 +160,43 @@ def _extended(ring: FloatArray, v: int, group: FloatArray) -> FloatArray | None:
     new = ring.copy()
     new[v] = far
     return new if shapely.Polygon(new).is_valid else None
+
+
+def _tip_moved(ring: OrderedContour, v: int, group: FloatArray, pts: FloatArray, gap: float
+               ) -> FloatArray | None:
+    """The ring's points with the tip ``v`` moved out to ``group`` (`_extended`), if the ring
+    then still covers its members and the group within ``gap``."""
+    new_xy = _extended(ring.points, v, group)
+    if new_xy is None or not _covers(new_xy, pts[ring.members], group, gap):
+        return None
+    return new_xy
+
+
+def _tip_hull(ring: OrderedContour, group: FloatArray, pts: FloatArray, radius: float,
+              gap: float) -> FloatArray | None:
+    """The ring's polygon joined with the convex hull of ``group`` and the ring's vertices
+    within a radius of it (a spike whose end the march closed into a little loop of its own),
+    or that hull cut out of it (the same at a notch), if the result is one simple polygon that
+    still covers the ring's members and the group within ``gap``."""
+    near = np.flatnonzero(cKDTree(group).query(ring.points, distance_upper_bound=radius)[0]
+                          <= radius)
+    if not len(near):
+        return None
+    hull = shapely.MultiPoint(np.vstack([group, ring.points[near]])).convex_hull
+    poly = shapely.Polygon(ring.points)
+    if not poly.is_valid or hull.area <= 0:
+        return None
+    # a spike of the shape is joined to it; a notch into it (the hull mostly inside) cut out
+    inside = poly.intersection(hull).area > 0.5 * hull.area
+    union = poly.difference(hull) if inside else shapely.union(poly, hull)
+    if union.geom_type != "Polygon" or len(union.interiors) or not union.is_valid:
+        return None
+    new_xy = np.asarray(union.exterior.coords)[:-1]
+    if union.exterior.is_ccw != shapely.LinearRing(ring.points).is_ccw:
+        new_xy = new_xy[::-1]
+    if not _covers(new_xy, pts[ring.members], group, gap):
+        return None
+    return new_xy
 
 
 def _covers(ring: FloatArray, members: FloatArray, group: FloatArray, gap: float) -> bool:
