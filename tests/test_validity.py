@@ -238,6 +238,30 @@ def test_parts_of_an_outline_that_nearly_touch_make_one_outline():
         shapely.Polygon(shape.rings[0]).area, rel=0.05)
 
 
+def test_a_small_loop_of_a_few_points_is_a_contour():
+    """Seven points round a hole 6 tolerances wide, in a silhouette sampled more sparsely than
+    the tolerance (the radius widened to 3 spacings, wider than the loop): the march makes no
+    chain of them, and they were outliers."""
+    eps = 0.002
+    t = np.linspace(0, 2 * np.pi, 600, endpoint=False)
+    ring = np.column_stack([np.cos(t), np.sin(t)])
+    s = np.linspace(0, 2 * np.pi, 7, endpoint=False) + 0.3
+    loop = 0.006 * np.column_stack([np.cos(s), np.sin(s)])
+    pts = np.vstack([ring, loop])
+    result = wavepoly.fit(pts, eps)
+    _valid(pts, result)
+    assert sorted(c.closed for c in result.contours) == [True, True]
+    assert len(result.outliers) == 0
+
+
+def test_vase_silhouette_keeps_its_hole(shared_data):
+    pts = wavepoly.read_points(shared_data / "curves2d" / "noisy_sets" / "vase.txt")
+    result = wavepoly.fit(pts, 0.00102)
+    _valid(pts, result)
+    assert [c.closed for c in result.contours] == [True, True]
+    assert len(result.outliers) == 0
+
+
 def test_a_tolerance_below_the_scatter_is_said_and_a_better_one_suggested():
     rng = np.random.default_rng(2)
     t = rng.uniform(0, 2 * np.pi, 20000)

@@ -11,6 +11,8 @@ from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from ..types import FloatArray, IntArray
@@ -158,3 +160,11 @@ def perpendicular_kurtosis(centre: FloatArray, tangent: FloatArray, atoms: Atoms
     m2 = np.bincount(owner, w * offset**2, k) / total
     m4 = np.bincount(owner, w * offset**4, k) / total
     return np.divide(m4, m2**2, out=np.zeros_like(m4), where=m2**2 > 0)
+
+
+def point_clusters(xy: FloatArray, reach: float) -> IntArray:
+    """Label of each point's cluster: points within ``reach`` of one another, chained."""
+    n = len(xy)
+    pairs = cKDTree(xy).query_pairs(reach, output_type="ndarray")
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+    return connected_components(graph, directed=False)[1]

@@ -18,13 +18,12 @@ from __future__ import annotations
 
 import numpy as np
 import shapely
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from ..geometry import nearest_segment
 from ..types import FloatArray, IntArray, OrderedContour
 from .marching import turning
+from .neighbourhoods import point_clusters
 
 #: A tip's vertex turns by at least this (degrees, between the chords two vertices away; the
 #: rounded tip of the 'B' waist, a 40 degree wedge, turns by 98 there). A group beyond a
@@ -121,10 +120,7 @@ def _outlier_groups(outliers: IntArray, pts: FloatArray, radius: float) -> list[
     """Clusters of at least `TIP_GROUP` outliers, each point within a radius of another."""
     if len(outliers) < TIP_GROUP:
         return []
-    pairs = cKDTree(pts[outliers]).query_pairs(radius, output_type="ndarray")
-    n = len(outliers)
-    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
-    _, label = connected_components(graph, directed=False)
+    label = point_clusters(pts[outliers], radius)
     sizes = np.bincount(label)
     return [outliers[label == g] for g in np.flatnonzero(sizes >= TIP_GROUP)]
 
