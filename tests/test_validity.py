@@ -201,7 +201,8 @@ def test_clean_samplings_have_no_outliers(char, spacing, noise, eps, seed):
 @pytest.mark.parametrize("char, family, spacing, noise, eps, seed", [
     ("B", "DejaVu Sans", 0.02, 0.02, 0.1, 4),  # the waist's tip came out as an open stroke
     ("8", "DejaVu Serif", 0.03, 0.01, 0.08, 3),  # ... or as 8 outliers 2.7 radii beyond
-    ("b", "DejaVu Serif", 0.03, 0.025, 0.1, 11)])  # ... or as a little loop off the bisector
+    ("b", "DejaVu Serif", 0.03, 0.025, 0.1, 11),  # ... or as a little loop off the bisector
+    ("M", "STIXGeneral", 0.05, 0.02, 0.3, 12)])  # ... or as a chain of 2 nodes (11 outliers)
 def test_a_notch_is_followed_to_its_tip(char, family, spacing, noise, eps, seed):
     """Where two walls of an outline converge to a notch, the march turns back a few radii
     before the tip; the closed outline still reaches it (the right number of closed

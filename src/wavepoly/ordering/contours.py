@@ -45,6 +45,11 @@ CORNER_SHARE = 0.15
 #: rounded off, not a stray, and it stays a member out to `MEMBER_REACH`. On a noisier scan
 #: (the Intel map at 0.1 has 0.28) strays about a wall are outliers beyond one radius.
 CLEAN_NOISE = 0.25
+#: On a clean scan, the nodes of a chain too short to be a contour, within this many radii
+#: of a contour, count as its nodes: the tip of a notch the march left as 2 or 3 nodes (its
+#: points then belong to the contour, which the corner insertion and the tips carry out to
+#: them, instead of being outliers).
+SHORT_CHAIN_REACH = 4.0
 #: Rounds of corner insertion: each halves the gap a rounded corner leaves.
 CORNER_ROUNDS = 4
 
@@ -57,14 +62,22 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
     A point belongs to the contour of its nearest node among those contours (within
     `MEMBER_REACH` radii; farther points, and the points of shorter chains that no contour is
     near, are outliers). The ``absorbed`` nodes of dropped side chains count as nodes of the
-    contour nearest them. A member farther than the radius from its contour's chain (once the
-    cut corners are restored) is an outlier too, unless the scan is clean (`CLEAN_NOISE`).
+    contour nearest them, as do, on a clean scan, the nodes of chains shorter than
+    ``min_points`` near a contour (`SHORT_CHAIN_REACH`). A member farther than the radius
+    from its contour's chain (once the cut corners are restored) is an outlier too, unless
+    the scan is clean (`CLEAN_NOISE`).
     """
+    clean = nodes.noise <= CLEAN_NOISE * radius
+    short = [c.nodes for c in chains if len(c) < min_points]
     chains = [c for c in chains if len(c) >= min_points]
     if not chains:
         return [], np.arange(len(pts), dtype=np.intp)
     node_ids = np.concatenate([c.nodes for c in chains])
     owner = np.repeat(np.arange(len(chains)), [len(c) for c in chains])
+    if clean and short:  # the tip of a notch left as a chain of 2 or 3 nodes
+        short_ids = np.concatenate(short)
+        gap, _ = cKDTree(nodes.xy[node_ids]).query(nodes.xy[short_ids])
+        absorbed = np.concatenate([absorbed, short_ids[gap <= SHORT_CHAIN_REACH * radius]])
     if len(absorbed):
         _, host = cKDTree(nodes.xy[node_ids]).query(nodes.xy[absorbed])
         node_ids, owner = np.concatenate([node_ids, absorbed]), np.concatenate([owner,
@@ -77,7 +90,6 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
     contours: list[OrderedContour] = []
     outliers = [np.flatnonzero(chain_of_point < 0)]
     first_node = np.concatenate([[0], np.cumsum([len(c) for c in chains])])
-    clean = nodes.noise <= CLEAN_NOISE * radius
     outlier_gap = (MEMBER_REACH if clean else 1.0) * radius
     for c, chain in enumerate(chains):
         seq, closed = chain.nodes, chain.closed
