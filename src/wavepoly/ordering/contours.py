@@ -112,8 +112,9 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
         inside[unsure[far]] = False
         outliers.append(members[~inside])
         contours.append(OrderedContour(xy, closed, members[inside]))  # sorted: stable argsort
-    contours, outliers = extend_tips(contours, np.sort(np.concatenate(outliers)).astype(np.intp),
-                                     pts, radius, outlier_gap, clean)
+    outliers = np.sort(np.concatenate(outliers)).astype(np.intp)
+    if clean:  # on a noisy scan a group beyond a corner may as well be clutter
+        contours, outliers = extend_tips(contours, outliers, pts, radius, outlier_gap)
     contours = merge_overlapping_rings(swap_crossed_stretches(contours, pts))
     contours = split_at_crossings(contours, pts)
     return contours, outliers

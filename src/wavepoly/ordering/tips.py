@@ -2,16 +2,14 @@
 
 Where two walls of a closed outline converge (the waist of a 'B' or a serif '8', a
 tentacle's tip), the neighbourhoods span both walls for the last few radii, and the march
-turns back before the end. What is left beyond the turn is a small group of points, either
-outliers, a short open stroke or a little loop of its own. A group that lies beyond a sharp
-turn of a closed
-contour, along the turn's bisector, is that contour's tip: the turn's vertex moves out to the
-group's farthest point, and the group's points become members of the contour.
+turns back before the end. What is left beyond the turn is a small group of points: outliers,
+a short open stroke or a little loop of its own. A group that lies beyond a sharp turn of a
+closed contour, along the turn's bisector, is that contour's tip: the turn's vertex moves out
+to the group's farthest point, and the group's points become members of the contour.
 
 A stroke or loop must span less than `TIP_STROKE` radii: a larger one is a contour of its own
 (the issue's "a loop or a stroke of at least 4 tolerances is a contour"), and a T junction's
-stem meets a
-straight stretch, not a sharp turn.
+stem meets a straight stretch, not a sharp turn.
 """
 
 from __future__ import annotations
@@ -44,19 +42,18 @@ TIP_STROKE = 4.0
 
 
 def extend_tips(contours: list[OrderedContour], outliers: IntArray, pts: FloatArray,
-                radius: float, gap: float, clean: bool = False
-                ) -> tuple[list[OrderedContour], IntArray]:
+                radius: float, gap: float) -> tuple[list[OrderedContour], IntArray]:
     """Closed contours carried out to the groups of points beyond their sharp turns.
 
     The groups are clusters of ``outliers`` (points within a radius of each other) and the
     members of small contours, open or closed. A group is taken when it lies beyond a vertex
     that turns by `TIP_TURN`, within `TIP_CONE` of the turn's bisector and `TIP_REACH` radii of the
     vertex, and when the contour with the vertex moved to the group's farthest point is still a
-    simple polygon with the group and its own members within ``gap`` of it. On a ``clean``
-    scan, where a group is real shape (`contours.CLEAN_NOISE`), a group off the bisector is
-    joined by its hull (`_tip_hull`), a little loop counts as a group, and each sharp vertex
-    near a group is tried, not only the sharpest; on a noisy one these may take clutter by a
-    corner (Freiburg lost a closed room to them).
+    simple polygon with the group and its own members within ``gap`` of it; else, a group off
+    the bisector is joined by its hull (`_tip_hull`). Each sharp vertex near a group is
+    tried, the sharpest first. For clean scans (`contours.CLEAN_NOISE`), where a group is
+    real shape: on a noisy laser map it may be clutter by a corner (Freiburg lost a closed
+    room and gained pieces when its tips were taken).
 
     Returns the contours (a taken stroke or loop removed) and the remaining outliers.
     """
@@ -68,17 +65,16 @@ def extend_tips(contours: list[OrderedContour], outliers: IntArray, pts: FloatAr
         return contours, outliers
     groups = [(g, -1) for g in _outlier_groups(outliers, pts, radius)] + [
         (c.members, k) for k, c in enumerate(contours)
-        if small[k] and len(c.members) >= TIP_GROUP and (clean or not c.closed)]
+        if small[k] and len(c.members) >= TIP_GROUP]
     contours = list(contours)
     lines = shapely.STRtree([_line(c) for c in contours])
     taken: list[IntArray] = []
     dropped: set[int] = set()
     for group, stroke in groups:
         xy = pts[group]
-        candidates = _tip_candidates(contours, rings, xy, radius)
-        for k, v in candidates if clean else candidates[:1]:
+        for k, v in _tip_candidates(contours, rings, xy, radius):
             new_xy = _tip_moved(contours[k], v, xy, pts, gap)
-            if new_xy is None and clean:
+            if new_xy is None:
                 new_xy = _tip_hull(contours[k], xy, pts, radius, gap)
             if new_xy is None:
                 continue
@@ -163,7 +159,7 @@ def _tip_moved(ring: OrderedContour, v: int, group: FloatArray, pts: FloatArray,
     """The ring's points with the tip ``v`` moved out to ``group`` (`_extended`), if the ring
     then still covers its members and the group within ``gap``."""
     new_xy = _extended(ring.points, v, group)
-    if new_xy is None or not _covers(new_xy, pts[ring.members], group, gap):
+    if new_xy is None or not _covers(new_xy, ring.points, pts[ring.members], group, gap):
         return None
     return new_xy
 
@@ -190,15 +186,27 @@ def _tip_hull(ring: OrderedContour, group: FloatArray, pts: FloatArray, radius: 
     new_xy = np.asarray(union.exterior.coords)[:-1]
     if union.exterior.is_ccw != shapely.LinearRing(ring.points).is_ccw:
         new_xy = new_xy[::-1]
-    if not _covers(new_xy, pts[ring.members], group, gap):
+    if not _covers(new_xy, ring.points, pts[ring.members], group, gap):
         return None
     return new_xy
 
 
-def _covers(ring: FloatArray, members: FloatArray, group: FloatArray, gap: float) -> bool:
-    """Do the ring's own members and the group all lie within ``gap`` of the ring?"""
-    pts = np.vstack([members, group])
+def _covers(ring: FloatArray, old: FloatArray, members: FloatArray, group: FloatArray,
+            gap: float) -> bool:
+    """Do the ring's own members and the group all lie within ``gap`` of the ``ring`` that
+    replaces ``old``? Only members near where the two differ can have moved away from it
+    (the others' nearest edges are kept), so only they are measured."""
+    box = np.vstack([_changed(ring, old), _changed(old, ring), group])
+    lo, hi = box.min(axis=0) - 2 * gap, box.max(axis=0) + 2 * gap
+    near = members[((members >= lo) & (members <= hi)).all(axis=1)]
+    pts = np.vstack([near, group])
     return bool(nearest_segment(pts, ring, True)[1].max(initial=0.0) <= gap)
+
+
+def _changed(ring: FloatArray, other: FloatArray) -> FloatArray:
+    """The vertices of ``ring`` that ``other`` lacks, with their neighbours on the ring."""
+    new = ~np.isin(ring[:, 0] + 1j * ring[:, 1], other[:, 0] + 1j * other[:, 1])
+    return ring[new | np.roll(new, 1) | np.roll(new, -1)]
 
 
 def _unit(v: FloatArray) -> FloatArray:
