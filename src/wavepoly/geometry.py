@@ -289,6 +289,14 @@ def segments_distance(points: FloatArray, a: FloatArray, b: FloatArray,
     return nearest_in_grid(np.ascontiguousarray(points), a, b, *segment_grid(a, b), bound)[1]
 
 
+def curve_line(xy: FloatArray, closed: bool) -> shapely.Geometry:
+    """The drawn line of a chain of points: a ring when ``closed`` (3 points or more), a line
+    string, or the one point."""
+    if closed and len(xy) >= 3:
+        return shapely.linearrings(xy)
+    return shapely.linestrings(xy) if len(xy) >= 2 else shapely.points(xy[0])
+
+
 def polyline_length(xy: FloatArray, closed: bool) -> float:
     """Length of a polyline (closed: including the last-to-first segment)."""
     ring = np.vstack([xy, xy[:1]]) if closed else xy

@@ -40,7 +40,7 @@ import numpy as np
 
 from ..types import FloatArray, Ordering
 from ..validate import check_tolerance, validate_points
-from .contours import CLEAN_NOISE, contours_of
+from .contours import clean_scan, contours_of
 from .islands import island_contours
 from .marching import (
     chains_of,
@@ -131,7 +131,7 @@ def order_points(points: FloatArray, radius: float, *, seed: int = 0, min_points
                      "surface)")
     contours, outliers = contours_of(pts, atoms.tree, nodes, chains, absorbed, radius,
                                      min_points)
-    if nodes.noise <= CLEAN_NOISE * radius:  # on a noisy scan such groups are clutter
+    if clean_scan(nodes.noise, radius):  # on a noisy scan such groups are clutter
         islands, outliers = island_contours(outliers, pts, radius, given)
         contours += islands
     return Ordering(contours, outliers, radius, merged, tuple(notes), nodes.noise)

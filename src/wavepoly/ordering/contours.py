@@ -43,7 +43,7 @@ CORNER_SHARE = 0.15
 #: sampling (the issue's σ ≤ ε / 4): a member farther than the radius from its chain is then
 #: the tail of that scatter (1.07 ε from the true glyph at σ = ε / 4) or a feature the chain
 #: rounded off, not a stray, and it stays a member out to `MEMBER_REACH`. On a noisier scan
-#: (the Intel map at 0.1 has 0.28) strays about a wall are outliers beyond one radius.
+#: (the Intel map at 0.1 measures 0.39) strays about a wall are outliers beyond one radius.
 CLEAN_NOISE = 0.25
 #: On a clean scan, the nodes of a chain too short to be a contour, within this many radii
 #: of a contour, count as its nodes: the tip of a notch the march left as 2 or 3 nodes (its
@@ -67,19 +67,20 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
     from its contour's chain (once the cut corners are restored) is an outlier too, unless
     the scan is clean (`CLEAN_NOISE`).
     """
-    clean = nodes.noise <= CLEAN_NOISE * radius
+    clean = clean_scan(nodes.noise, radius)
     short = [c.nodes for c in chains if len(c) < min_points]
     chains = [c for c in chains if len(c) >= min_points]
     if not chains:
         return [], np.arange(len(pts), dtype=np.intp)
     node_ids = np.concatenate([c.nodes for c in chains])
     owner = np.repeat(np.arange(len(chains)), [len(c) for c in chains])
+    chain_nodes = cKDTree(nodes.xy[node_ids])
     if clean and short:  # the tip of a notch left as a chain of 2 or 3 nodes
         short_ids = np.concatenate(short)
-        gap, _ = cKDTree(nodes.xy[node_ids]).query(nodes.xy[short_ids])
+        gap, _ = chain_nodes.query(nodes.xy[short_ids])
         absorbed = np.concatenate([absorbed, short_ids[gap <= SHORT_CHAIN_REACH * radius]])
     if len(absorbed):
-        _, host = cKDTree(nodes.xy[node_ids]).query(nodes.xy[absorbed])
+        _, host = chain_nodes.query(nodes.xy[absorbed])
         node_ids, owner = np.concatenate([node_ids, absorbed]), np.concatenate([owner,
                                                                                  owner[host]])
     dist, nearest = cKDTree(nodes.xy[node_ids]).query(
@@ -118,6 +119,11 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
     contours = merge_overlapping_rings(swap_crossed_stretches(contours, pts))
     contours = split_at_crossings(contours, pts)
     return contours, outliers
+
+
+def clean_scan(noise: float, radius: float) -> bool:
+    """Is a scan with this scatter about its curves a clean sampling (`CLEAN_NOISE`)?"""
+    return noise <= CLEAN_NOISE * radius
 
 
 def _vertex_index(chain: FloatArray, xy: FloatArray) -> IntArray:

@@ -22,6 +22,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components, depth_first_order
 from scipy.spatial import cKDTree
 
+from ..geometry import curve_line
 from ..types import Chain, FloatArray, IntArray
 from .joining import join_ends
 from .neighbourhoods import Nodes
@@ -160,9 +161,7 @@ def drop_crossing_loops(nodes: Nodes, chains: list[Chain], absorbed: IntArray,
     loops = [k for k, c in enumerate(chains) if c.closed and 3 <= len(c) < short]
     if not loops or len(chains) < 2:
         return chains, absorbed
-    lines = [shapely.LineString(nodes.xy[np.append(c.nodes, c.nodes[0])] if c.closed
-                                else nodes.xy[c.nodes]) if len(c) >= 2 else shapely.Point(
-        nodes.xy[c.nodes[0]]) for c in chains]
+    lines = [curve_line(nodes.xy[c.nodes], c.closed) for c in chains]
     tree = shapely.STRtree(lines)
     drop = set()
     for k in loops:

@@ -18,7 +18,7 @@ import numpy as np
 import shapely
 from scipy.spatial import cKDTree
 
-from ..geometry import nearest_segment
+from ..geometry import curve_line, nearest_segment
 from ..types import FloatArray, IntArray, OrderedContour
 from .marching import turning
 from .neighbourhoods import point_clusters
@@ -67,12 +67,13 @@ def extend_tips(contours: list[OrderedContour], outliers: IntArray, pts: FloatAr
         (c.members, k) for k, c in enumerate(contours)
         if small[k] and len(c.members) >= TIP_GROUP]
     contours = list(contours)
-    lines = shapely.STRtree([_line(c) for c in contours])
+    lines = shapely.STRtree([curve_line(c.points, c.closed) for c in contours])
+    turns = {k: turning(contours[k].points, True) for k in rings}
     taken: list[IntArray] = []
     dropped: set[int] = set()
     for group, stroke in groups:
         xy = pts[group]
-        for k, v in _tip_candidates(contours, rings, xy, radius):
+        for k, v in _tip_candidates(contours, rings, turns, xy, radius):
             new_xy = _tip_moved(contours[k], v, xy, pts, gap)
             if new_xy is None:
                 new_xy = _tip_hull(contours[k], xy, pts, radius, gap)
@@ -84,6 +85,7 @@ def extend_tips(contours: list[OrderedContour], outliers: IntArray, pts: FloatAr
             if set(near.tolist()) - {k, stroke}:
                 continue  # the polygons of the two could meet
             contours[k] = OrderedContour(new_xy, True, np.union1d(contours[k].members, group))
+            turns[k] = turning(new_xy, True)
             taken.append(group)
             dropped.add(stroke)
             break
@@ -93,10 +95,12 @@ def extend_tips(contours: list[OrderedContour], outliers: IntArray, pts: FloatAr
     return contours, np.setdiff1d(outliers, np.concatenate(taken))
 
 
-def _tip_candidates(contours: list[OrderedContour], rings: list[int], group: FloatArray,
-                    radius: float) -> list[tuple[int, int]]:
+def _tip_candidates(contours: list[OrderedContour], rings: list[int],
+                    turns: dict[int, FloatArray], group: FloatArray, radius: float
+                    ) -> list[tuple[int, int]]:
     """The closed contours' vertices within `TIP_REACH` radii of ``group`` that turn by at
-    least `TIP_TURN`, the sharpest first (a rounded tip spreads its turn over a few)."""
+    least `TIP_TURN` (``turns``: each ring's turning angles), the sharpest first (a rounded
+    tip spreads its turn over a few)."""
     found: list[tuple[float, int, int]] = []
     reach = TIP_REACH * radius
     lo, hi = group.min(axis=0) - reach, group.max(axis=0) + reach
@@ -107,7 +111,7 @@ def _tip_candidates(contours: list[OrderedContour], rings: list[int], group: Flo
         if not len(inside):
             continue
         near = inside[tree.query(ring[inside], distance_upper_bound=reach)[0] <= reach]
-        angle = turning(ring, True)[near]
+        angle = turns[k][near]
         found += [(float(a), k, int(v)) for a, v in zip(angle, near) if a >= TIP_TURN]
     return [(k, v) for _, k, v in sorted(found, reverse=True)]
 
@@ -119,12 +123,6 @@ def _outlier_groups(outliers: IntArray, pts: FloatArray, radius: float) -> list[
     label = point_clusters(pts[outliers], radius)
     sizes = np.bincount(label)
     return [outliers[label == g] for g in np.flatnonzero(sizes >= TIP_GROUP)]
-
-
-def _line(c: OrderedContour) -> shapely.Geometry:
-    if c.closed and len(c.points) >= 3:
-        return shapely.LinearRing(c.points)
-    return shapely.LineString(c.points) if len(c.points) >= 2 else shapely.Point(c.points[0])
 
 
 def _extent(xy: FloatArray) -> float:
