@@ -77,3 +77,23 @@ def test_hull_candidates_keep_every_hull_vertex(seed, directions, scale, noise):
             assert keep[b0 + ConvexHull(block).vertices].all()
     if noise > 0.05:  # blocks are noisy strips: few hull vertices (a clean arc is all hull)
         assert keep.mean() < 0.5
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(0, 2**31 - 1), st.integers(1, 60))
+def test_group_hull_candidates_keep_every_group_hull_vertex(seed, groups):
+    """Groups given by label (points in any order) keep their convex hulls, as blocks do."""
+    from wavepoly.geometry import group_hull_candidates
+
+    rng = np.random.default_rng(seed)
+    n = 4000
+    t = rng.uniform(0, 50, n)
+    points = np.column_stack([t, np.sin(t) + rng.normal(0, 0.05, n)])
+    group = np.minimum((t / 50 * groups).astype(np.intp), groups - 1)
+    axes = np.tile([1.0, 0.0], (groups, 1))
+    keep = group_hull_candidates(points, group, axes)
+    for g in range(groups):
+        idx = np.flatnonzero(group == g)
+        if len(idx) >= 3:
+            assert keep[idx[ConvexHull(points[idx]).vertices]].all()
+    assert keep.mean() < 0.5

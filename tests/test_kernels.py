@@ -96,8 +96,46 @@ def test_the_compiled_hull_filter_matches_the_numpy_reference(seed, blocks, widt
     pts = np.column_stack([t * 10, width * rng.normal(size=len(t))])
     pts = np.round(pts, 3)  # ties among the extremes, as on a scanner's grid
     dirs = np.ascontiguousarray(np.stack([np.cos(_STRIP_ANGLES), np.sin(_STRIP_ANGLES)]))
+    index = rng.permutation(len(pts))  # blocks of points listed anywhere
+    pts = pts[np.argsort(index)]
+    chord = pts[index[ends - 1]] - pts[index[starts]]
+    axes = chord / np.hypot(chord[:, 0], chord[:, 1])[:, None]
     want, got = np.ones(len(pts), bool), np.ones(len(pts), bool)
-    _thin_blocks(pts, starts, ends, dirs, want)
-    thin_blocks(pts, starts, ends, dirs, got)
+    _thin_blocks(pts, index, starts, ends, axes, dirs, want)
+    thin_blocks(pts, index, starts, ends, axes, dirs, got)
     np.testing.assert_array_equal(got, want)
     assert got.sum() < len(pts)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 10_000), st.integers(0, 300), st.booleans())
+def test_the_stepping_search_matches_searchsorted(seed, n, uneven):
+    """`nearly_uniform_search` is exact on any sorted grid: even or not, repeated values, and
+    values at, between and beyond its ends."""
+    from wavepoly.kernels import nearly_uniform_search
+
+    rng = np.random.default_rng(seed)
+    grid = np.sort(rng.uniform(0, 1, n) ** (4 if uneven else 1))
+    grid = np.round(grid, 2)  # repeats
+    values = np.concatenate([rng.uniform(-0.2, 1.2, 500), grid, rng.choice(grid, 50)
+                             if n else []])
+    left, right = nearly_uniform_search(grid, values)
+    np.testing.assert_array_equal(left, np.searchsorted(grid, values, "left"))
+    np.testing.assert_array_equal(right, np.searchsorted(grid, values, "right"))
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 10_000), st.integers(1, 2000), st.floats(0.01, 3.0))
+def test_the_grid_nearest_site_matches_the_kd_tree(seed, m, limit):
+    """`geometry.nearest_site` gives what ``cKDTree.query`` with an upper bound gives."""
+    from scipy.spatial import cKDTree
+
+    from wavepoly.geometry import nearest_site
+
+    rng = np.random.default_rng(seed)
+    sites = rng.uniform(0, 10, (m, 2))
+    points = rng.uniform(-2, 12, (3000, 2))
+    dist, index = nearest_site(points, sites, limit)
+    want_d, want_i = cKDTree(sites).query(points, distance_upper_bound=limit)
+    np.testing.assert_allclose(dist, want_d, rtol=1e-12)
+    np.testing.assert_array_equal(index, want_i)

@@ -33,7 +33,7 @@ def test_points_outside_a_corner_get_distinct_ordered_parameters(closed):
     """Regression (bunny slice): points outside a corner all projected onto it; with one shared
     parameter no inserted vertex could separate them and the repair never converged."""
     from wavepoly.levels import decompose_contour
-    from wavepoly.reconstruction import point_parameters
+    from wavepoly.parameters import point_parameters
 
     if closed:
         ordered = np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]])
@@ -69,3 +69,63 @@ def test_no_vertex_overshoots_a_thin_tip(seed):
     cloud = shapely.multipoints(pts)
     for c in res.contours:
         assert shapely.distance(shapely.points(c.vertices), cloud).max() <= 0.25
+
+
+@pytest.mark.parametrize("text, spacing, noise, closed", [("S", 0.0005, 0.0005, True),
+                                                          ("e", 0.0004, 0.002, True),
+                                                          ("S", 0.0005, 0.002, False)])
+def test_a_dense_contour_gives_the_polygon_of_all_its_points(monkeypatch, text, spacing,
+                                                              noise, closed):
+    """Many points per ordered point: they are grouped between parameters, sorted by group and
+    only each group's hull candidates go to the selection (`DENSE_SAMPLING`); the polygon is
+    the one the plain path gives."""
+    from scipy.spatial import cKDTree
+
+    import wavepoly.reconstruction as rec
+    from wavepoly.geometry import polyline_distance
+    from wavepoly.levels import decompose_contour
+    from wavepoly.ordering import order_points
+    from wavepoly.samples import glyph_outlines, sample_rings
+
+    ring = max(glyph_outlines(text).rings, key=len)
+    pts = sample_rings([ring], spacing=spacing, noise=noise, seed=3)
+    if not closed:  # an open stretch of the outline: cut out a quarter of it
+        along = cKDTree(ring).query(pts)[1]
+        pts = pts[along < 0.75 * len(ring)]
+    oc = max(order_points(pts, 0.08).contours, key=lambda c: len(c.members))
+    assert oc.closed == closed
+    members = pts[oc.members]
+    assert len(members) >= rec.DENSE_SAMPLING * len(oc.points)
+    pyramid = decompose_contour(oc.points, oc.closed, 0.08)
+    calls = []
+    real_select = rec.select_vertices
+    monkeypatch.setattr(rec, "select_vertices",
+                        lambda *a, **k: calls.append(len(a[2])) or real_select(*a, **k))
+    dense = rec.reconstruct_contour(pyramid, oc.points, members, 0.08)
+    monkeypatch.setattr(rec, "DENSE_SAMPLING", np.inf)
+    plain = rec.reconstruct_contour(pyramid, oc.points, members, 0.08)
+    assert calls[0] < 0.2 * calls[1] and calls[1] == len(members)  # the selection saw fewer
+    np.testing.assert_array_equal(dense.vertices, plain.vertices)
+    assert dense.max_error == plain.max_error
+    assert polyline_distance(members, dense.vertices, closed).max() <= 0.08 * (1 + 1e-9)
+
+
+def test_a_thinning_that_drops_hull_points_still_keeps_the_tolerance(monkeypatch):
+    """The selection's polygon is verified on every point: a thinning that dropped hull
+    vertices (forced here) leaves the verified repaired polygon, never a polygon that misses
+    a point."""
+    import wavepoly.reconstruction as rec
+    from wavepoly import parameters
+    from wavepoly.geometry import polyline_distance
+    from wavepoly.levels import decompose_contour
+    from wavepoly.ordering import order_points
+    from wavepoly.samples import glyph_outlines, sample_rings
+
+    pts = sample_rings(glyph_outlines("O").rings[:1], spacing=0.0005, noise=0.003, seed=1)
+    oc = order_points(pts, 0.08).contours[0]
+    members = pts[oc.members]
+    pyramid = decompose_contour(oc.points, oc.closed, 0.08)
+    monkeypatch.setattr(parameters, "group_hull_candidates",
+                        lambda p, g, a: np.arange(len(p)) % 50 == 0)  # not the hull
+    result = rec.reconstruct_contour(pyramid, oc.points, members, 0.08)
+    assert polyline_distance(members, result.vertices, True).max() <= 0.08 * (1 + 1e-9)

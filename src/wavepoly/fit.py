@@ -33,7 +33,7 @@ from .types import (
     Reconstruction,
     within,
 )
-from .validate import check_relative_tolerance, check_tolerance, validate_points
+from .validate import check_relative_tolerance, check_tolerance, column_bounds, validate_points
 from .validity import check_contours, obstacle_tree, split_at_crossings_of, without_repeats
 
 STAGES = ("ordering", "decomposition", "reconstruction", "verification")
@@ -176,7 +176,8 @@ def _neighbours(points: FloatArray, ordered: list[OrderedContour], tolerance: fl
     boxes = []
     for oc in ordered:
         xy = np.vstack([oc.points, points[oc.members]]) if len(oc.members) else oc.points
-        lo, hi = xy.min(axis=0) - 2 * tolerance, xy.max(axis=0) + 2 * tolerance
+        lo, hi = column_bounds(xy)
+        lo, hi = lo - 2 * tolerance, hi + 2 * tolerance
         boxes.append(shapely.box(lo[0], lo[1], hi[0], hi[1]))
     tree = shapely.STRtree(boxes)
     mine, other = tree.query(boxes, predicate="intersects")

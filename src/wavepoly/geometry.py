@@ -6,7 +6,7 @@ import numpy as np
 import shapely
 from scipy.spatial import cKDTree
 
-from .kernels import nearest_in_grid, segment_grid, thin_blocks
+from .kernels import group_order, nearest_in_grid, segment_grid, thin_blocks
 from .types import Contour, FloatArray, IntArray, nesting_depth
 
 
@@ -220,32 +220,56 @@ def hull_candidates(points: FloatArray, starts: IntArray, angles: FloatArray | N
     array([0, 1, 2, 3])
     """
     points = np.ascontiguousarray(points, dtype=np.float64)
-    angles = _STRIP_ANGLES if angles is None else np.asarray(angles, dtype=np.float64)
     n = len(points)
-    keep = np.ones(n, dtype=bool)
+    if n == 0:
+        return np.ones(0, dtype=bool)
     starts = np.asarray(starts, dtype=np.intp)
     ends = np.append(starts[1:], n)
+    chord = points[np.maximum(ends - 1, 0)] - points[np.minimum(starts, max(n - 1, 0))]
+    return _thin(points, np.arange(n), starts, ends, _unit_rows(chord), angles, chunk)
+
+
+def group_hull_candidates(points: FloatArray, group: IntArray, axes: FloatArray,
+                          angles: FloatArray | None = None) -> np.ndarray:
+    """`hull_candidates` of groups given by label, not by runs: ``group[i]`` (0 .. g-1) is the
+    group of point i, and ``axes`` (g, 2) the direction along each group (the default angles
+    crowd about its normals), so that unsorted points need no sort."""
+    points = np.ascontiguousarray(points, dtype=np.float64)
+    index, start = group_order(np.asarray(group, dtype=np.intp), len(axes))
+    return _thin(points, index, start[:-1], start[1:], _unit_rows(axes), angles)
+
+
+def _thin(points: FloatArray, index: IntArray, starts: IntArray, ends: IntArray,
+          axes: FloatArray, angles: FloatArray | None, chunk: int = 1 << 17) -> np.ndarray:
+    """The compiled filter over the blocks ``points[index[starts[i]:ends[i]]]``, about
+    ``chunk`` points at a time (bounded memory)."""
+    angles = _STRIP_ANGLES if angles is None else np.asarray(angles, dtype=np.float64)
+    keep = np.ones(len(points), dtype=bool)
     dirs = np.ascontiguousarray(np.stack([np.cos(angles), np.sin(angles)]))
     big = np.flatnonzero(ends - starts > len(angles))  # smaller blocks are kept whole
     i = 0
-    while i < len(big):  # whole blocks, about ``chunk`` points at a time (bounded memory)
+    while i < len(big):
         j = i + max(1, int(np.searchsorted(starts[big[i:]], starts[big[i]] + chunk)))
-        thin_blocks(points, starts[big[i:j]], ends[big[i:j]], dirs, keep)
+        thin_blocks(points, index, starts[big[i:j]], ends[big[i:j]],
+                    np.ascontiguousarray(axes[big[i:j]]), dirs, keep)
         i = j
     return keep
 
 
-def _thin_blocks(points: FloatArray, starts: IntArray, ends: IntArray, dirs: FloatArray,
-                 keep: np.ndarray) -> None:
+def _unit_rows(v: FloatArray) -> FloatArray:
+    """Each row scaled to length 1; a zero row becomes (1, 0)."""
+    norm = np.hypot(v[:, 0], v[:, 1])
+    return np.where(norm[:, None] > 0, v / np.where(norm > 0, norm, 1.0)[:, None], [1.0, 0.0])
+
+
+def _thin_blocks(points: FloatArray, index: IntArray, starts: IntArray, ends: IntArray,
+                 axis: FloatArray, dirs: FloatArray, keep: np.ndarray) -> None:
     """`hull_candidates` on some blocks: clear ``keep`` of the points inside their polygons
     (the NumPy reference of `wavepoly.kernels.thin_blocks`, for the tests)."""
     counts = ends - starts
     first = np.cumsum(counts) - counts
-    index = np.repeat(starts - first, counts) + np.arange(counts.sum())
-    chord = points[ends - 1] - points[starts]
-    norm = np.hypot(chord[:, 0], chord[:, 1])
-    axis = np.where(norm[:, None] > 0, chord / np.where(norm > 0, norm, 1.0)[:, None], [1.0, 0.0])
-    d = points[index] - np.repeat(points[starts], counts, axis=0)  # each block in its own frame:
+    index = index[np.repeat(starts - first, counts) + np.arange(counts.sum())]
+    d = points[index] - np.repeat(points[index[first]], counts, axis=0)  # each block in its frame:
     ax, ay = np.repeat(axis[:, 0], counts), np.repeat(axis[:, 1], counts)  # x along its chord
     p = np.column_stack([d[:, 0] * ax + d[:, 1] * ay, d[:, 1] * ax - d[:, 0] * ay])
     proj = p @ dirs
@@ -287,6 +311,28 @@ def segments_distance(points: FloatArray, a: FloatArray, b: FloatArray,
     a, b = np.ascontiguousarray(a), np.ascontiguousarray(b)
     bound = np.broadcast_to(np.inf if limit is None else limit, len(points)).astype(float)
     return nearest_in_grid(np.ascontiguousarray(points), a, b, *segment_grid(a, b), bound)[1]
+
+
+def nearest_site(points: FloatArray, sites: FloatArray, limit: float = np.inf
+                 ) -> tuple[FloatArray, IntArray]:
+    """Distance to and index of each point's nearest site nearer than ``limit``, as
+    ``cKDTree(sites).query(points, distance_upper_bound=limit)`` gives them (inf and
+    ``len(sites)`` when none is), by the grid search of `nearest_segment` over the sites as
+    segments of length 0: on many points and few sites some 4 times faster than the tree.
+    Ties go to the lowest index.
+
+    >>> nearest_site(np.array([[0.1, 0.0], [3.0, 0.0]]), np.array([[0.0, 0.0], [1.0, 0.0]]), 1.5)
+    (array([0.1, inf]), array([0, 2]))
+    """
+    points = np.ascontiguousarray(points, dtype=np.float64)
+    sites = np.ascontiguousarray(sites, dtype=np.float64)
+    if len(points) == 0 or len(sites) == 0:
+        return np.full(len(points), np.inf), np.full(len(points), len(sites), dtype=np.intp)
+    bound = np.full(len(points), float(limit))
+    index, dist = nearest_in_grid(points, sites, sites, *segment_grid(sites, sites), bound)
+    none = ~(dist < limit)
+    dist[none], index[none] = np.inf, len(sites)
+    return dist, index
 
 
 def curve_line(xy: FloatArray, closed: bool) -> shapely.Geometry:

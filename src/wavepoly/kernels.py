@@ -179,42 +179,51 @@ def neighbour_distances(points: np.ndarray, owner: np.ndarray, coeffs: np.ndarra
 
 
 @njit(cache=True, nogil=True)
-def thin_blocks(points: np.ndarray, starts: np.ndarray, ends: np.ndarray, dirs: np.ndarray,
-                keep: np.ndarray) -> None:  # pragma: no cover - compiled
-    """Akl & Toussaint's filter on each block ``points[starts[i]:ends[i]]``: clear ``keep`` of
-    the points strictly inside the polygon of the block's extreme points in the directions
-    ``dirs`` (2, d), measured in the frame of the block's chord (see `hull_candidates`)."""
+def thin_blocks(points: np.ndarray, index: np.ndarray, starts: np.ndarray, ends: np.ndarray,
+                axes: np.ndarray, dirs: np.ndarray, keep: np.ndarray
+                ) -> None:  # pragma: no cover - compiled
+    """Akl & Toussaint's filter on each block ``points[index[starts[i]:ends[i]]]``: clear
+    ``keep`` of the points strictly inside the polygon of the block's extreme points in the
+    directions ``dirs`` (2, d), measured in the frame whose x axis is the block's unit
+    ``axes[i]`` (see `hull_candidates`)."""
     nd = dirs.shape[1]
     corner = np.empty((nd, 2))
+    line = np.empty((nd, 3))
     extreme = np.empty(nd, dtype=np.intp)
+    longest = 0
+    for blk in range(len(starts)):
+        longest = max(longest, ends[blk] - starts[blk])
+    xs, ys = np.empty(longest), np.empty(longest)  # a block in its own frame, gathered once
     for blk in range(len(starts)):
         s, e = starts[blk], ends[blk]
-        cx, cy = points[e - 1, 0] - points[s, 0], points[e - 1, 1] - points[s, 1]
-        norm = math.hypot(cx, cy)
-        ax, ay = (cx / norm, cy / norm) if norm > 0 else (1.0, 0.0)
-        ox, oy = points[s, 0], points[s, 1]
+        ax, ay = axes[blk, 0], axes[blk, 1]
+        ox, oy = points[index[s], 0], points[index[s], 1]
+        for q in range(s, e):
+            dx, dy = points[index[q], 0] - ox, points[index[q], 1] - oy
+            xs[q - s], ys[q - s] = dx * ax + dy * ay, dy * ax - dx * ay
         for k in range(nd):
             best = -np.inf
-            for q in range(s, e):
-                dx, dy = points[q, 0] - ox, points[q, 1] - oy
-                x, y = dx * ax + dy * ay, dy * ax - dx * ay
-                proj = x * dirs[0, k] + y * dirs[1, k]
+            for q in range(e - s):
+                proj = xs[q] * dirs[0, k] + ys[q] * dirs[1, k]
                 if proj > best:
                     best, extreme[k] = proj, q
-                    corner[k, 0], corner[k, 1] = x, y
-        for q in range(s, e):
-            dx, dy = points[q, 0] - ox, points[q, 1] - oy
-            x, y = dx * ax + dy * ay, dy * ax - dx * ay
+            corner[k, 0], corner[k, 1] = xs[extreme[k]], ys[extreme[k]]
+        edges = 0  # the polygon's edge lines: p is strictly left of one when ex*y - ey*x > c
+        for k in range(nd):
+            k2 = (k + 1) % nd
+            ex, ey = corner[k2, 0] - corner[k, 0], corner[k2, 1] - corner[k, 1]
+            length2 = ex * ex + ey * ey
+            if length2 <= 0:
+                continue  # a degenerate edge tells nothing
+            c = ex * corner[k, 1] - ey * corner[k, 0]
+            line[edges, 0], line[edges, 1] = ex, ey
+            line[edges, 2] = c + 1e-12 * (length2 + abs(c))  # a margin: on it is not inside
+            edges += 1
+        for q in range(e - s):
+            x, y = xs[q], ys[q]
             inside = True
-            for k in range(nd):
-                k2 = (k + 1) % nd
-                ex, ey = corner[k2, 0] - corner[k, 0], corner[k2, 1] - corner[k, 1]
-                length2 = ex * ex + ey * ey
-                if length2 <= 0:
-                    continue  # a degenerate edge tells nothing
-                c = ex * corner[k, 1] - ey * corner[k, 0]
-                c += 1e-12 * (length2 + abs(c))  # a margin: on the edge is not inside
-                if not y * ex - x * ey > c:
+            for k in range(edges):
+                if not y * line[k, 0] - x * line[k, 1] > line[k, 2]:
                     inside = False
                     break
             if inside:
@@ -222,4 +231,68 @@ def thin_blocks(points: np.ndarray, starts: np.ndarray, ends: np.ndarray, dirs: 
                     if extreme[k] == q:
                         inside = False
             if inside:
-                keep[q] = False
+                keep[index[s + q]] = False
+
+
+@njit(cache=True, nogil=True)
+def group_order(group: np.ndarray, n_groups: int
+                ) -> tuple[np.ndarray, np.ndarray]:  # pragma: no cover - compiled
+    """Counting sort: the (stable) order that lists the points group by group, and where each
+    group's run starts in it (``n_groups + 1`` entries)."""
+    start = np.zeros(n_groups + 1, dtype=np.intp)
+    for g in group:
+        start[g + 1] += 1
+    for g in range(n_groups):
+        start[g + 1] += start[g]
+    fill = start[:-1].copy()
+    order = np.empty(len(group), dtype=np.intp)
+    for p in range(len(group)):
+        order[fill[group[p]]] = p
+        fill[group[p]] += 1
+    return order, start
+
+
+@njit(cache=True, nogil=True)
+def nearly_uniform_search(grid: np.ndarray, values: np.ndarray
+                          ) -> tuple[np.ndarray, np.ndarray]:  # pragma: no cover - compiled
+    """``np.searchsorted(grid, values, "left")`` and ``"right"`` for a sorted ``grid`` whose
+    values are spread about evenly (curve parameters): each search starts where a uniform grid
+    would hold the value and steps from there, O(1) per value instead of a binary search's
+    cache misses on unsorted values. Exact for any sorted grid (only slower when uneven)."""
+    n = len(grid)
+    left = np.empty(len(values), dtype=np.intp)
+    right = np.empty(len(values), dtype=np.intp)
+    if n == 0:
+        left[:] = 0
+        right[:] = 0
+        return left, right
+    lo, span = grid[0], grid[-1] - grid[0]
+    for p in range(len(values)):
+        v = values[p]
+        j = 0
+        if span > 0 and v > lo:
+            j = min(int((v - lo) / span * (n - 1)), n)
+        while j > 0 and grid[j - 1] >= v:
+            j -= 1
+        while j < n and grid[j] < v:
+            j += 1
+        k = j
+        while k < n and grid[k] <= v:
+            k += 1
+        left[p], right[p] = j, k
+    return left, right
+
+
+@njit(cache=True, nogil=True)
+def order_within_groups(values: np.ndarray, group: np.ndarray, n_groups: int
+                        ) -> np.ndarray:  # pragma: no cover - compiled
+    """``np.argsort(values, kind="stable")`` when ``group`` (0 .. n_groups-1) never decreases
+    as ``values`` increase: a counting sort by group, then a stable sort of each group's few
+    values (a full sort's cache misses on a large unsorted array are avoided)."""
+    order, start = group_order(group, n_groups)
+    for g in range(n_groups):
+        s, e = start[g], start[g + 1]
+        if e - s > 1:
+            sub = order[s:e].copy()
+            order[s:e] = sub[np.argsort(values[sub], kind="mergesort")]
+    return order

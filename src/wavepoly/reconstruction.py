@@ -7,8 +7,9 @@ coefficients inside an MSC found at a coarser level (the "updated MSC") are not 
 the rest go through the same extraction, until no data point is left or the finest level is done.
 
 Every coefficient sits at a curve parameter (its Greville abscissa, `wavelets.greville`), and
-every data point gets the parameter of its projection on the finest control polygon, so "inside
-an MSC", "between two MSCs" and "the edge that stands for a point" are comparisons of numbers.
+every data point gets the parameter of its projection on the finest control polygon
+(`wavepoly.parameters`), so "inside an MSC", "between two MSCs" and "the edge that stands for a
+point" are comparisons of numbers.
 
 The polygon is then made honest: every data point of the contour is measured against the edge
 that stands for it (which bounds its distance to the polygon), and wherever the tolerance
@@ -26,15 +27,18 @@ import shapely
 from scipy.spatial import cKDTree
 
 from . import wavelets
-from .geometry import nearest_segment, polyline_distance, segment_distance
+from .geometry import nearest_site, polyline_distance, segment_distance
 from .kernels import neighbour_distances
+from .parameters import (
+    hull_groups,
+    raw_parameters,
+    sorted_by_parameter,
+    split_groups,
+    vertex_parameters,
+)
 from .simplify import edge_of, own_edge_distance, select_vertices
 from .types import SLACK, FloatArray, IntArray, Msc, Pyramid, Reconstruction
 
-#: Parameters this close (relative to the finest level's spacing) are ties at one vertex.
-PARAM_TIE = 1e-9
-#: Arc lengths this close (relative to the polyline's length) put a point at a vertex.
-AT_VERTEX = 1e-12
 #: Parameter round-off allowed at an MSC's ends (parameters live in [0, 1]).
 MSC_END_SLACK = 1e-12
 #: An ordered point this close to a vertex is that vertex (not a new candidate).
@@ -46,90 +50,10 @@ MIN_RUN = 4
 #: B-spline's control points stand outside the curve where it turns sharply (a blade's
 #: trailing edge), and such a point, kept as a vertex, would put a spike beyond the shape.
 MAX_VERTEX_OFFSET = 1.0
-
-def point_parameters(points: FloatArray, pyramid: Pyramid) -> FloatArray:
-    """Curve parameter of each data point (`_parameters_and_order`)."""
-    return _parameters_and_order(points, pyramid)[0]
-
-
-def _parameters_and_order(points: FloatArray, pyramid: Pyramid) -> tuple[FloatArray, IntArray]:
-    """Curve parameter of each data point: its projection on the finest control polygon.
-
-    Points outside a corner all project onto the corner; they are told apart by direction
-    (those towards the outgoing edge get a slightly larger parameter), so that an inserted
-    vertex can always separate them. On an open contour, the parameters of points beyond an end
-    continue along its end segments.
-    """
-    cp = pyramid.coefficients[pyramid.finest]
-    u = wavelets.greville(pyramid.finest, pyramid.closed)
-    if pyramid.closed:
-        cp, u = np.vstack([cp, cp[:1]]), np.append(u, 1.0)
-    length = np.linalg.norm(np.diff(cp, axis=0), axis=1)
-    arc = np.concatenate([[0.0], np.cumsum(length)])
-    s = _locate(points, cp, arc)
-    param = np.interp(s, arc, u)
-    delta = PARAM_TIE * float(np.diff(u).min(initial=1.0))
-    at = np.clip(np.searchsorted(arc, s), 0, len(arc) - 1)
-    near = np.abs(arc[at] - s) <= AT_VERTEX * arc[-1]
-    m = len(arc) - 1  # segments; on a closed contour vertex m is vertex 0 again
-    inner = near if pyramid.closed else near & (at > 0) & (at < m)
-    if inner.any():
-        i = at[inner] % m if pyramid.closed else at[inner]
-        prev, nxt = (i - 1) % m, i + 1
-        d_in = _unit(cp[i] - cp[prev])
-        d_out = _unit(cp[nxt] - cp[i])
-        w = _unit(points[inner] - cp[i])
-        key = np.einsum("ij,ij->i", w, d_in + d_out)  # -1 by the incoming edge, +1 by the next
-        param[inner] = u[i] + 0.25 * key * delta
-    param, order = _untie(param, 1e-3 * delta)
-    if pyramid.closed:
-        return np.mod(param, 1.0), order
-    # beyond an end of an open contour: the parameter continues along the end segment, so that
-    # the repair can extend the polyline to such points
-    for end, nxt in ((0, 1), (m, m - 1)):
-        out = near & (at == end)
-        if out.any():
-            seg = cp[end] - cp[nxt]
-            t = (points[out] - cp[end]) @ seg / max(float(seg @ seg), 1e-300)
-            gap = np.linalg.norm(points[out] - cp[end], axis=1) / np.sqrt(max(float(seg @ seg),
-                                                                                1e-300))
-            # strictly beyond the end vertex, so that an inserted point has its own parameter
-            param[out] = u[end] + (np.maximum(t, 0.0) + delta * (1 + gap)) * (u[end] - u[nxt])
-    return param, order
-
-
-def _locate(points: FloatArray, line: FloatArray, arc: FloatArray) -> FloatArray:
-    """Arc length along the open polyline ``line`` of each point's nearest point on it.
-
-    Like shapely's ``line_locate_point``, but O((n + m) log m) (`nearest_segment`); a point
-    whose nearest point is a vertex gets exactly that vertex's ``arc`` value.
-    """
-    seg, _ = nearest_segment(points, line, False)
-    a, ab = line[seg], line[seg + 1] - line[seg]
-    denom = np.einsum("ij,ij->i", ab, ab)
-    t = np.einsum("ij,ij->i", points - a, ab) / np.where(denom > 0, denom, 1.0)
-    s = arc[seg] + np.clip(t, 0.0, 1.0) * (arc[seg + 1] - arc[seg])
-    s[t >= 1.0] = arc[seg[t >= 1.0] + 1]
-    return s
-
-
-def _untie(param: FloatArray, step: float) -> tuple[FloatArray, IntArray]:
-    """Equal parameters spread by ``step`` (in input order): with every point's parameter its
-    own, a point inserted as a vertex starts the edge that holds it, so the repair ends.
-    Also returns the (stable) order that sorts ``param``."""
-    order = np.argsort(param, kind="stable")
-    p = param[order]
-    new_group = np.concatenate([[True], p[1:] != p[:-1]])
-    start = np.maximum.accumulate(np.where(new_group, np.arange(len(p)), 0))
-    out = param.copy()
-    out[order] = p + (np.arange(len(p)) - start) * step
-    return out, order
-
-
-def _unit(v: FloatArray) -> FloatArray:
-    n = np.linalg.norm(v, axis=1, keepdims=True)
-    return v / np.where(n > 0, n, 1.0)
-
+#: Data points per ordered point from which a contour's points are grouped between parameters
+#: and thinned to their hull candidates for the selection (`reconstruct_contour`): below it the
+#: groups are too small for that to pay for itself.
+DENSE_SAMPLING = 8
 
 # ---------------------------------------------------------------------------------------------
 # MSC extraction (§4.1 at the coarsest level, §4.2 at finer levels)
@@ -165,7 +89,7 @@ def storable_mask(points: FloatArray, coeffs: FloatArray, closed: bool, toleranc
     """
     if len(points) == 0:
         return np.ones(len(coeffs), dtype=bool), np.empty(0, dtype=np.intp)
-    _, owner = cKDTree(coeffs).query(points)
+    _, owner = nearest_site(points, coeffs)
     d_prev, d_next = neighbour_distances(np.ascontiguousarray(points), owner,
                                          np.ascontiguousarray(coeffs), closed)
     bad = np.minimum(d_prev, d_next) > tolerance * (1 + SLACK)
@@ -256,15 +180,31 @@ def reconstruct_contour(pyramid: Pyramid, ordered: FloatArray, points: FloatArra
     start_level : level to start extracting from (default: the pyramid's coarsest).
     obstacles : edges of the contours already fixed nearby, which the polygon must not meet
         (`wavepoly.simplify.select_vertices`).
+
+    Notes
+    -----
+    On a dense contour (`DENSE_SAMPLING`) the points are labelled once by the run between two
+    consecutive parameters of any level's coefficients or ordered points that holds them, and
+    only those that may be convex-hull vertices of their run (`geometry.group_hull_candidates`)
+    go to the fewest-vertex selection, with the whole runs that a candidate splits. The cone
+    test's distances are convex in the point, so the selection is the same as over all the
+    points, for a fraction of the work; the labels also sort the points (`untie`).
     """
     closed = pyramid.closed
     level = pyramid.coarsest if start_level is None else start_level
-    params, by_param = _parameters_and_order(points, pyramid)
+    raw, step = raw_parameters(points, pyramid)
+    fine_u = wavelets.greville(pyramid.finest, closed)[pyramid.fine_index]
+    dense = len(points) >= DENSE_SAMPLING * len(ordered)
     # in parameter order from here on (the result holds no per-point arrays): the sorts and
     # searches of the selection then run over sorted data
-    if np.any(np.diff(params[by_param]) < 0):  # ends continued or wrapped: sort again
-        by_param = np.argsort(params, kind="stable")
-    points, params = points[by_param], params[by_param]
+    if dense:
+        cuts = np.unique(vertex_parameters(pyramid, fine_u))
+        group, keep = hull_groups(points, raw, pyramid, cuts)
+        by_param, params = sorted_by_parameter(raw, step, closed, group)
+        group, keep = group[by_param], keep[by_param]
+    else:
+        by_param, params = sorted_by_parameter(raw, step, closed)
+    points = points[by_param]
     live = np.arange(len(points))  # the working set of data points (eq. 10 deletes from it)
     gdl: list[Msc] = []
     coeffs = pyramid.coefficients[level]
@@ -275,7 +215,6 @@ def reconstruct_contour(pyramid: Pyramid, ordered: FloatArray, points: FloatArra
             break
         coeffs = wavelets.synthesize(coeffs, pyramid.details[level], closed)  # eq. 11
         level += 1
-    fine_u = wavelets.greville(pyramid.finest, closed)[pyramid.fine_index]
     contour = _ContourData(points, params, ordered, fine_u, closed, tolerance)
     vertices, vparams = _assemble(gdl, ordered, fine_u, params[live], closed)
     vertices, vparams = _near_curve(vertices, vparams, contour)
@@ -290,8 +229,12 @@ def reconstruct_contour(pyramid: Pyramid, ordered: FloatArray, points: FloatArra
     cand_u = np.concatenate([vparams, fine_u[extra]])
     order = np.argsort(np.mod(cand_u, 1.0) if closed else cand_u, kind="stable")
     backbone = np.flatnonzero(order < len(vertices))  # the repaired, verified polygon
-    chosen, chosen_u = select_vertices(cand[order], cand_u[order], points, params, closed,
-                                       tolerance, backbone=backbone, obstacles=obstacles)
+    hull = points, params
+    if dense:  # with the groups that a candidate splits, whole
+        sel = keep | split_groups(cuts, cand_u, closed)[group]
+        hull = points[sel], params[sel]
+    chosen, chosen_u = select_vertices(cand[order], cand_u[order], *hull, closed, tolerance,
+                                       backbone=backbone, obstacles=obstacles)
     # the cone test is exact up to rounding; the repaired polygon stays the fallback
     if own_edge_distance(chosen, chosen_u, points, params, closed).max(initial=0.0) <= (
             tolerance * (1 + SLACK)):
@@ -374,28 +317,46 @@ def _repair(c: _ContourData, vertices: FloatArray, vparams: FloatArray
     0, so this ends.
     """
     limit = c.tolerance * (1 + SLACK)
+    dist = own_edge_distance(vertices, vparams, c.points, c.params, c.closed)
     for _ in range(len(c.points) + len(c.ordered) + 1):
-        dist = own_edge_distance(vertices, vparams, c.points, c.params, c.closed)
         bad = dist > limit
         if not bad.any():
             break
         edges = np.unique(edge_of(vparams, c.params[bad], c.closed))
+        held = [_edge_points(c.params, vparams, e, c.closed) for e in edges]
         new_v, new_u = [], []
-        for e in edges:
-            v, u = _split_point(c, e, vertices, vparams, dist, bad)
+        for e, idx in zip(edges, held):
+            v, u = _split_point(c, e, vertices, vparams, dist, bad, idx)
             new_v.append(v)
             new_u.append(u)
         vertices = np.vstack([vertices, new_v])
         vparams = np.concatenate([vparams, new_u])
         order = np.argsort(np.mod(vparams, 1.0) if c.closed else vparams, kind="stable")
         vertices, vparams = vertices[order], vparams[order]
+        # only the points of the split edges have new edges; the others keep their distances
+        idx = np.concatenate(held)
+        dist[idx] = own_edge_distance(vertices, vparams, c.points[idx], c.params[idx], c.closed)
     return vertices, vparams
 
 
+def _edge_points(params: FloatArray, vparams: FloatArray, e: int, closed: bool) -> IntArray:
+    """Indices (increasing) of the points whose own edge is ``e`` (as `simplify.edge_of`
+    assigns them), for ``params`` sorted (in [0, 1) on a closed contour)."""
+    k = len(vparams)
+    key = np.mod(vparams, 1.0) if closed else vparams
+    n = len(params)
+    if closed and e == k - 1:  # the edge over the seam
+        head = np.arange(np.searchsorted(params, key[0], "left"))
+        return np.concatenate([head, np.arange(np.searchsorted(params, key[-1], "left"), n)])
+    lo = 0 if e == 0 and not closed else np.searchsorted(params, key[e], "left")
+    hi = n if e == k - 2 and not closed else np.searchsorted(params, key[e + 1], "left")
+    return np.arange(lo, hi)
+
+
 def _split_point(c: _ContourData, e: int, vertices: FloatArray, vparams: FloatArray,
-                 dist: FloatArray, bad: np.ndarray) -> tuple[FloatArray, float]:
+                 dist: FloatArray, bad: np.ndarray, held: IntArray) -> tuple[FloatArray, float]:
     """The point to insert into edge ``e``: the farthest ordered point inside it, else its
-    farthest data point beyond the tolerance."""
+    farthest data point beyond the tolerance (of those it ``held``)."""
     k = len(vertices)
     a, b = vparams[e], vparams[(e + 1) % k]
     if c.closed:
@@ -409,6 +370,6 @@ def _split_point(c: _ContourData, e: int, vertices: FloatArray, vparams: FloatAr
         if d.max() > 0:
             j = cand[np.argmax(d)]
             return c.ordered[j], c.fine_u[j]
-    in_edge = np.flatnonzero(bad & (edge_of(vparams, c.params, c.closed) == e))
+    in_edge = held[bad[held]]
     j = in_edge[np.argmax(dist[in_edge])]
     return c.points[j], c.params[j]

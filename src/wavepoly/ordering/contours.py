@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
-from ..geometry import nearest_segment
+from ..geometry import nearest_segment, nearest_site
 from ..types import Chain, FloatArray, IntArray, OrderedContour
 from .marching import CORNER_TURN, turning
 from .neighbourhoods import Nodes
@@ -83,8 +83,7 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
         _, host = chain_nodes.query(nodes.xy[absorbed])
         node_ids, owner = np.concatenate([node_ids, absorbed]), np.concatenate([owner,
                                                                                  owner[host]])
-    dist, nearest = cKDTree(nodes.xy[node_ids]).query(
-        pts, distance_upper_bound=MEMBER_REACH * radius)
+    dist, nearest = nearest_site(pts, nodes.xy[node_ids], MEMBER_REACH * radius)
     chain_of_point = np.where(np.isfinite(dist), owner[np.minimum(nearest, len(owner) - 1)], -1)
     order = np.argsort(chain_of_point, kind="stable")
     bounds = np.searchsorted(chain_of_point[order], np.arange(len(chains) + 1))

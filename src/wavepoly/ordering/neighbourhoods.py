@@ -16,6 +16,7 @@ from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from ..types import FloatArray, IntArray
+from ..validate import column_bounds
 
 #: Cells of radius / ATOM_DIVISIONS summarize dense points (`cell_atoms`): fine enough that a
 #: disc's rim is decided per cell with an error of 1/8 radius at most.
@@ -38,7 +39,7 @@ class Nodes:
 
 def cells(cell: IntArray, weight: FloatArray | None = None) -> tuple[IntArray, FloatArray]:
     """Index of each item's cell among the occupied ones, and the weight in each cell."""
-    cell = cell - cell.min(axis=0)
+    cell = cell - column_bounds(cell)[0]
     key = cell[:, 0] * (int(cell[:, 1].max()) + 1) + cell[:, 1]
     _, inverse = np.unique(key, return_inverse=True)
     inverse = inverse.ravel()
