@@ -135,6 +135,9 @@ def fit(points: FloatArray, tolerance: float, *,
 def _one_segment(points: FloatArray, tolerance: float) -> FitResult | None:
     """When the tolerance is as large as the points' extent, the smallest valid result: one
     segment along their principal axis, if it keeps every point within the tolerance."""
+    low, high = column_bounds(points)
+    if (high - low).max() > 2 * tolerance:  # some point is farther than that from any centre
+        return None
     centre = points.mean(axis=0)
     if np.linalg.norm(points - centre, axis=1).max() > tolerance:
         return None

@@ -296,3 +296,18 @@ def order_within_groups(values: np.ndarray, group: np.ndarray, n_groups: int
             sub = order[s:e].copy()
             order[s:e] = sub[np.argsort(values[sub], kind="mergesort")]
     return order
+
+
+@njit(cache=True, nogil=True)
+def edge_distances(points: np.ndarray, edge: np.ndarray, vertices: np.ndarray
+                   ) -> np.ndarray:  # pragma: no cover - compiled
+    """Distance of each point to the polygon edge ``edge[i]`` (vertex e to vertex e+1, the last
+    to the first), in one pass and without gathering the edges' ends."""
+    k = len(vertices)
+    dist = np.empty(len(points))
+    for p in range(len(points)):
+        e = edge[p]
+        f = e + 1 if e + 1 < k else 0
+        dist[p] = _segment_distance(points[p, 0], points[p, 1], vertices[e, 0], vertices[e, 1],
+                                    vertices[f, 0], vertices[f, 1])
+    return dist

@@ -25,7 +25,11 @@ AT_VERTEX = 1e-12
 
 def point_parameters(points: FloatArray, pyramid: Pyramid) -> FloatArray:
     """Curve parameter of each data point (`raw_parameters`), ties spread (`untie`)."""
-    return untie(*raw_parameters(points, pyramid))[0]
+    raw, step = raw_parameters(points, pyramid)
+    order, params = sorted_by_parameter(raw, step, pyramid.closed)
+    out = np.empty_like(params)
+    out[order] = params
+    return out
 
 
 def raw_parameters(points: FloatArray, pyramid: Pyramid) -> tuple[FloatArray, float]:
@@ -87,32 +91,31 @@ def _locate(points: FloatArray, line: FloatArray) -> tuple[IntArray, FloatArray]
     return seg, np.clip(t, 0.0, 1.0)
 
 
-def untie(param: FloatArray, step: float, order: IntArray | None = None
-           ) -> tuple[FloatArray, IntArray]:
-    """Equal parameters spread by ``step`` (in input order): with every point's parameter its
-    own, a point inserted as a vertex starts the edge that holds it, so the repair ends.
-    Also returns the (stable) order that sorts ``param``, unless it is given."""
-    if order is None:
-        order = np.argsort(param, kind="stable")
-    p = param[order]
+def untie(sorted_param: FloatArray, step: float) -> FloatArray:
+    """Sorted parameters with equal ones spread by ``step`` (in their order): with every
+    point's parameter its own, a point inserted as a vertex starts the edge that holds it, so
+    the repair ends."""
+    p = sorted_param
     new_group = np.concatenate([[True], p[1:] != p[:-1]])
     start = np.maximum.accumulate(np.where(new_group, np.arange(len(p)), 0))
-    out = param.copy()
-    out[order] = p + (np.arange(len(p)) - start) * step
-    return out, order
+    return p + (np.arange(len(p)) - start) * step
 
 
 def sorted_by_parameter(raw: FloatArray, step: float, closed: bool,
                         group: IntArray | None = None) -> tuple[IntArray, FloatArray]:
-    """The order that sorts the parameters ``raw`` and the sorted parameters, ties spread
-    (`untie`); in [0, 1) when ``closed``. With the points' ``group`` of `hull_groups` (which
-    never decreases along the parameter), sorted group by group, in linear time."""
-    order = None if group is None else order_within_groups(raw, group, int(group.max()) + 1)
-    params, order = untie(raw, step, order)
-    if closed and params.max(initial=0.0) >= 1.0:  # a tie spread over the seam: wrap it
+    """The (stable) order that sorts the parameters ``raw`` and the sorted parameters, ties
+    spread (`untie`); in [0, 1) when ``closed``. With the points' ``group`` of `hull_groups`
+    (which never decreases along the parameter), sorted group by group, in linear time."""
+    if group is None:
+        order = np.argsort(raw, kind="stable")
+    else:
+        order = order_within_groups(raw, group, int(group.max()) + 1)
+    params = untie(raw[order], step)
+    if closed and len(params) and params[-1] >= 1.0:  # a tie spread over the seam: wrap it
         params = np.mod(params, 1.0)
-        order = np.argsort(params, kind="stable")
-    return order, params[order]
+        resort = np.argsort(params, kind="stable")
+        order, params = order[resort], params[resort]
+    return order, params
 
 
 def _unit(v: FloatArray) -> FloatArray:

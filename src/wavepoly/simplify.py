@@ -34,8 +34,8 @@ import numpy as np
 import shapely
 from scipy.ndimage import maximum_filter1d
 
-from .geometry import hull_candidates, segment_distance
-from .kernels import sweep_cones
+from .geometry import hull_candidates
+from .kernels import edge_distances, sweep_cones
 from .types import SLACK, FloatArray, IntArray
 from .validity import bad_edges
 
@@ -80,8 +80,11 @@ def own_edge_distance(vertices: FloatArray, vparams: FloatArray, points: FloatAr
     This bounds the distance to the polygon; keeping it within the tolerance is the invariant
     that repair establishes and the selection preserves.
     """
+    if len(points) == 0:
+        return np.zeros(0)
     e = edge_of(vparams, params, closed)
-    return segment_distance(points, vertices[e], vertices[(e + 1) % len(vertices)])
+    return edge_distances(np.ascontiguousarray(points, dtype=np.float64), e,
+                          np.ascontiguousarray(vertices, dtype=np.float64))
 
 
 def select_vertices(vertices: FloatArray, vparams: FloatArray, points: FloatArray,

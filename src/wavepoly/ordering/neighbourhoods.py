@@ -37,12 +37,23 @@ class Nodes:
     noise: float  # typical perpendicular spread of the points about their curve
 
 
+#: Cell keys are ranked by a table when their range is at most this many times the number of
+#: items (linear time, memory like the items'), else by a sort.
+DENSE_KEYS = 4
+
+
 def cells(cell: IntArray, weight: FloatArray | None = None) -> tuple[IntArray, FloatArray]:
     """Index of each item's cell among the occupied ones, and the weight in each cell."""
     cell = cell - column_bounds(cell)[0]
     key = cell[:, 0] * (int(cell[:, 1].max()) + 1) + cell[:, 1]
-    _, inverse = np.unique(key, return_inverse=True)
-    inverse = inverse.ravel()
+    span = int(key.max(initial=0)) + 1
+    if span <= DENSE_KEYS * max(len(key), 1):  # a table over the keys instead of a sort
+        occupied = np.zeros(span, dtype=bool)
+        occupied[key] = True
+        inverse = (np.cumsum(occupied) - 1)[key]
+    else:
+        _, inverse = np.unique(key, return_inverse=True)
+        inverse = inverse.ravel()
     return inverse, np.bincount(inverse, weight).astype(float)
 
 
