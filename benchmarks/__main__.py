@@ -9,8 +9,8 @@ import time
 
 from .common import DOCS
 
-PARTS = ["wavelets", "ordering", "fit", "validity", "peers", "scaling", "slicing", "large",
-         "figures"]
+PARTS = ["wavelets", "ordering", "fit", "validity", "peers", "scaling", "readers", "slicing",
+         "large", "figures"]
 
 
 def main(argv: list[str]) -> None:

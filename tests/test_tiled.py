@@ -177,3 +177,21 @@ def test_adaptive_layers_of_tiles_run_here_on_their_union(tiles, tmp_path):
     doc = json.loads((tmp_path / "a.json").read_text())
     assert doc["adaptive"] and doc["points"] == 60000 and doc["input"] == [str(p) for p in tiles]
     assert doc["model_error"] <= 0.05 * (1 + 1e-9)
+
+
+def test_a_float32_ply_stays_float32_and_slices_as_its_widened_cloud(tmp_path):
+    """A binary PLY of float32 vertices is read (memory-mapped, in chunks) as float32, half the
+    memory of a widened cloud, and its layer model is that of the same points as float64."""
+    from plyfile import PlyData, PlyElement
+
+    cloud = vase(20000).astype(np.float32)
+    vertex = np.empty(len(cloud), dtype=[("x", "<f4"), ("y", "<f4"), ("z", "<f4")])
+    vertex["x"], vertex["y"], vertex["z"] = cloud.T
+    path = tmp_path / "vase.ply"
+    PlyData([PlyElement.describe(vertex, "vertex")]).write(str(path))
+    chunks = list(read_chunks(path, size=7000))
+    assert [c.dtype for c in chunks] == [np.float32] * 3
+    np.testing.assert_array_equal(np.concatenate(chunks), cloud)
+    from_file = slice_tiles([path], 0.05, layer_thickness=2.0, workers=1)
+    widened = slice_cloud(cloud.astype(np.float64), 0.05, layer_thickness=2.0, workers=1)
+    assert signature(from_file) == signature(widened)

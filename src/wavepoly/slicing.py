@@ -108,7 +108,7 @@ def slice_cloud(points3d: FloatArray, tolerance: float, *, axis: str | FloatArra
 
     Parameters
     ----------
-    points3d : (N, 3) cloud.
+    points3d : (N, 3) cloud; float32 stays float32 (half the memory) until a band is fitted.
     tolerance : shape tolerance, in the cloud's units: each layer's contours are within it of
         the section points; adaptive layers also keep the 3D staircase error within it.
     axis : slicing direction: ``"x"``, ``"y"``, ``"z"`` or a 3-vector.
@@ -123,7 +123,7 @@ def slice_cloud(points3d: FloatArray, tolerance: float, *, axis: str | FloatArra
         adaptive layers are fitted in sequence, each thickness depending on the fit.
     progress : called as ``progress(done, total)`` after each layer.
     """
-    pts = validate_points(points3d, source="cloud", min_points=3)
+    pts = validate_points(points3d, source="cloud", min_points=3, keep_float32=True)
     if pts.shape[1] != 3:
         raise DataError(f"cloud: slicing needs (N, 3) points, got {pts.shape[1]} columns")
     tolerance = check_tolerance(tolerance)

@@ -48,14 +48,17 @@ def column_bounds(arr: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
             np.array([arr[:, k].max() for k in cols]))
 
 
-def validate_points(points: object, *, source: str = "points", min_points: int = 2) -> FloatArray:
-    """Check an array of coordinates and return it as contiguous float64 (N, 2|3).
+def validate_points(points: object, *, source: str = "points", min_points: int = 2,
+                    keep_float32: bool = False) -> FloatArray:
+    """Check an array of coordinates and return it as contiguous float64 (N, 2|3), or as the
+    float32 it is with ``keep_float32`` (a large cloud, widened later band by band).
 
     Raises `DataError` for a wrong shape, no points, fewer than ``min_points``, NaN or
     infinite values, or points that are all identical.
     """
+    single = keep_float32 and getattr(points, "dtype", None) == np.float32
     try:
-        arr = np.asarray(points, dtype=np.float64)
+        arr = np.asarray(points, dtype=np.float32 if single else np.float64)
     except (TypeError, ValueError):
         raise DataError(f"{source}: coordinates are not numeric") from None
     if arr.ndim != 2 or arr.shape[1] not in (2, 3):

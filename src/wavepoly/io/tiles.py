@@ -61,7 +61,8 @@ def _known(path: Path) -> bool:
 def read_chunks(path: str | Path, *, fmt: str | None = None,
                 columns: Sequence[int] | None = None,
                 size: int = CHUNK_POINTS) -> Iterator[FloatArray]:
-    """The (n, 3) float64 points of a 3D scan file, ``size`` points at a time, in file order.
+    """The (n, 3) points of a 3D scan file, ``size`` points at a time, in file order: float32
+    where the file stores float32 (a binary PLY's), else float64.
 
     Raises `DataError` naming the file for an unreadable file, fewer than 3 coordinates, or
     NaN / infinite coordinates.
@@ -120,9 +121,11 @@ def _ply_chunks(path: Path, size: int) -> Iterator[np.ndarray]:
     names = [n for n in ("x", "y", "z") if n in (vertex.dtype.names or ())]
     if len(names) < 3:
         raise DataError(f"{path}: PLY vertices have no x/y/z properties")
+    single = all(vertex.dtype[n].kind == "f" and vertex.dtype[n].itemsize == 4 for n in names)
+    dtype = np.float32 if single else np.float64  # float32 kept: half the memory of a cloud
     for start in range(0, len(vertex), size):
         part = vertex[start:start + size]
-        yield np.column_stack([np.asarray(part[n], dtype=np.float64) for n in names])
+        yield np.column_stack([np.asarray(part[n], dtype=dtype) for n in names])
 
 
 def _whole_in_chunks(points: FloatArray, size: int) -> Iterator[np.ndarray]:
