@@ -302,15 +302,24 @@ def segments_distance(points: FloatArray, a: FloatArray, b: FloatArray,
     >>> segments_distance(np.array([[0.5, 0.5], [4.0, 0.5]]), a, b)
     array([0.5, 1. ])
     """
+    return nearest_of_segments(points, a, b, limit)[1]
+
+
+def nearest_of_segments(points: FloatArray, a: FloatArray, b: FloatArray,
+                        limit: FloatArray | float | None = None) -> tuple[IntArray, FloatArray]:
+    """Index of the nearest of the segments ``a[i]``-``b[i]`` for each point (ties: the lowest),
+    and the distance to it, as in `segments_distance` (-1 where a ``limit`` stopped the search
+    before any segment was found)."""
     points = np.asarray(points, dtype=np.float64)
     if len(points) == 0 or len(a) == 0:
-        return np.full(len(points), np.inf)
+        return np.full(len(points), -1, dtype=np.intp), np.full(len(points), np.inf)
     if len(a) <= _FEW_SEGMENTS and len(points) * len(a) <= _BRUTE_PAIRS:
-        return _nearest_segment_brute(points, a, b)[1]
-    a, b, _ = _cut_long_segments(a, b)
+        return _nearest_segment_brute(points, a, b)
+    a, b, piece_of = _cut_long_segments(a, b)
     a, b = np.ascontiguousarray(a), np.ascontiguousarray(b)
     bound = np.broadcast_to(np.inf if limit is None else limit, len(points)).astype(float)
-    return nearest_in_grid(np.ascontiguousarray(points), a, b, *segment_grid(a, b), bound)[1]
+    seg, dist = nearest_in_grid(np.ascontiguousarray(points), a, b, *segment_grid(a, b), bound)
+    return np.where(seg >= 0, piece_of[np.maximum(seg, 0)], -1), dist
 
 
 def nearest_site(points: FloatArray, sites: FloatArray, limit: float = np.inf

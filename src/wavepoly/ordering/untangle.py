@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
+from ..geometry import nearest_of_segments
 from ..types import FloatArray, IntArray, OrderedContour
 from ..validity import split_at_crossings_of
 from .marching import turning
@@ -236,9 +237,9 @@ def _share_members(pieces: list[FloatArray], members: IntArray, points: FloatArr
     """Open contours of the pieces, each with the members nearest to it."""
     if not pieces:
         return []
-    lines = [shapely.linestrings(p) for p in pieces]
-    where = shapely.points(points[members])
-    dist = np.stack([shapely.distance(where, line) for line in lines])
-    nearest = np.argmin(dist, axis=0)
+    a = np.concatenate([p[:-1] for p in pieces])
+    b = np.concatenate([p[1:] for p in pieces])
+    piece_of = np.repeat(np.arange(len(pieces)), [len(p) - 1 for p in pieces])
+    nearest = piece_of[nearest_of_segments(points[members], a, b)[0]]
     return [OrderedContour(p, False, members[nearest == k]) for k, p in enumerate(pieces)
             if (nearest == k).any()]  # a piece that stands for no point is no curve
