@@ -158,7 +158,11 @@ class _cluster:
         for proc in reversed(self.procs):
             proc.terminate()
         for proc in self.procs:
-            proc.wait(timeout=30)
+            try:
+                proc.wait(timeout=30)
+            except subprocess.TimeoutExpired:  # a worker still reconnecting: stop it
+                proc.kill()
+                proc.wait()
 
 
 def _peak_mb(pid: int) -> float:
