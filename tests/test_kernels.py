@@ -139,3 +139,32 @@ def test_the_grid_nearest_site_matches_the_kd_tree(seed, m, limit):
     want_d, want_i = cKDTree(sites).query(points, distance_upper_bound=limit)
     np.testing.assert_allclose(dist, want_d, rtol=1e-12)
     np.testing.assert_array_equal(index, want_i)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 10_000), st.integers(2, 50), st.booleans())
+def test_the_compiled_edge_distances_match_the_numpy_reference(seed, k, closed):
+    """`edge_distances` (own-edge distances in one pass) against `geometry.segment_distance`."""
+    from wavepoly.geometry import segment_distance
+    from wavepoly.kernels import edge_distances
+
+    rng = np.random.default_rng(seed)
+    vertices = rng.uniform(0, 10, (k, 2))
+    points = rng.uniform(-1, 11, (2000, 2))
+    edge = rng.integers(0, k if closed else k - 1, len(points))
+    want = segment_distance(points, vertices[edge], vertices[(edge + 1) % k])
+    np.testing.assert_array_equal(edge_distances(points, edge, vertices), want)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 10_000), st.integers(1, 400))
+def test_sorting_group_by_group_is_the_stable_sort(seed, groups):
+    """`order_within_groups` gives ``np.argsort(kind="stable")`` when the groups never decrease
+    along the values (ties included)."""
+    from wavepoly.kernels import order_within_groups
+
+    rng = np.random.default_rng(seed)
+    values = np.round(rng.uniform(0, 1, 5000), 3)  # ties
+    group = np.minimum((values * groups).astype(np.intp), groups - 1)
+    np.testing.assert_array_equal(order_within_groups(values, group, groups),
+                                  np.argsort(values, kind="stable"))
