@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -168,3 +169,22 @@ def test_sorting_group_by_group_is_the_stable_sort(seed, groups):
     group = np.minimum((values * groups).astype(np.intp), groups - 1)
     np.testing.assert_array_equal(order_within_groups(values, group, groups),
                                   np.argsort(values, kind="stable"))
+
+
+@pytest.mark.parametrize("sites", [np.column_stack([np.linspace(0, 10, 50), np.zeros(50)]),
+                                   np.zeros((3, 2)) + 2.0,
+                                   np.column_stack([np.zeros(40), np.linspace(0, 1e6, 40)])])
+def test_the_site_grid_of_a_degenerate_set_is_bounded(sites):
+    """Sites in a line or at one point span no area: the grid's cells are still bounded in
+    number (no overflowing cast) and the answers are the tree's."""
+    import warnings
+
+    from scipy.spatial import cKDTree
+
+    from wavepoly.geometry import nearest_site
+
+    points = np.random.default_rng(0).uniform(-1, 11, (500, 2))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        dist, _ = nearest_site(points, sites)
+    np.testing.assert_allclose(dist, cKDTree(sites).query(points)[0], rtol=1e-12)

@@ -88,8 +88,10 @@ def segment_grid(a: np.ndarray, b: np.ndarray, per_cell: float = 2.0):
     hi = np.maximum(a, b).max(axis=0)
     length = np.hypot(*(b - a).T)
     area = float(np.prod(np.maximum(hi - lo, 1e-300)))
+    # the bounds hold on a degenerate set too (sites in a line: the area is 0)
     cell = max(per_cell * float(np.median(length)),
-               np.sqrt(area / (MAX_CELLS_PER_SEGMENT * len(a))), 1e-300)
+               np.sqrt(area / (MAX_CELLS_PER_SEGMENT * len(a))),
+               float((hi - lo).max()) / (MAX_CELLS_PER_SEGMENT * len(a)), 1e-300)
     shape = np.maximum(np.ceil((hi - lo) / cell).astype(np.intp), 1)
     c0 = np.clip(((np.minimum(a, b) - lo) / cell).astype(np.intp), 0, shape - 1)
     c1 = np.clip(((np.maximum(a, b) - lo) / cell).astype(np.intp), 0, shape - 1)
