@@ -73,7 +73,7 @@ def validate_points(points: object, *, source: str = "points", min_points: int =
                         f"(first at row {first})")
     if len(arr) < min_points:
         raise DataError(f"{source}: only {len(arr)} point(s); at least {min_points} are needed")
-    big = max(np.abs(low).max(), np.abs(high).max())
+    big = float(max(np.abs(low).max(), np.abs(high).max()))  # float32 cannot hold the bound
     if big > MAX_COORDINATE:
         raise DataError(f"{source}: coordinates as large as {big:.3g}; distances between "
                         f"them would overflow (at most {MAX_COORDINATE:g} is accepted)")
