@@ -225,7 +225,7 @@ def hull_candidates(points: FloatArray, starts: IntArray, angles: FloatArray | N
         return np.ones(0, dtype=bool)
     starts = np.asarray(starts, dtype=np.intp)
     ends = np.append(starts[1:], n)
-    chord = points[np.maximum(ends - 1, 0)] - points[np.minimum(starts, max(n - 1, 0))]
+    chord = points[ends - 1] - points[starts]
     return _thin(points, np.arange(n), starts, ends, _unit_rows(chord), angles, chunk)
 
 

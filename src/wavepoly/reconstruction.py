@@ -323,7 +323,8 @@ def _repair(c: _ContourData, vertices: FloatArray, vparams: FloatArray
         if not bad.any():
             break
         edges = np.unique(edge_of(vparams, c.params[bad], c.closed))
-        held = [_edge_points(c.params, vparams, e, c.closed) for e in edges]
+        key = np.mod(vparams, 1.0) if c.closed else vparams
+        held = [_edge_points(c.params, key, e, c.closed) for e in edges]
         new_v, new_u = [], []
         for e, idx in zip(edges, held):
             v, u = _split_point(c, e, vertices, vparams, dist, bad, idx)
@@ -339,11 +340,11 @@ def _repair(c: _ContourData, vertices: FloatArray, vparams: FloatArray
     return vertices, vparams
 
 
-def _edge_points(params: FloatArray, vparams: FloatArray, e: int, closed: bool) -> IntArray:
+def _edge_points(params: FloatArray, key: FloatArray, e: int, closed: bool) -> IntArray:
     """Indices (increasing) of the points whose own edge is ``e`` (as `simplify.edge_of`
-    assigns them), for ``params`` sorted (in [0, 1) on a closed contour)."""
-    k = len(vparams)
-    key = np.mod(vparams, 1.0) if closed else vparams
+    assigns them), for ``params`` sorted (in [0, 1) on a closed contour) and the vertices'
+    sorted parameters ``key`` (taken modulo 1 on a closed contour)."""
+    k = len(key)
     n = len(params)
     if closed and e == k - 1:  # the edge over the seam
         head = np.arange(np.searchsorted(params, key[0], "left"))
