@@ -106,18 +106,21 @@ def layer_agreement(mesh, result, eps: float) -> list[dict]:
     """Each layer against the exact section of ``mesh`` at its mid-plane: valid, closed,
     Hausdorff distance between the boundaries (in ε), and the area between the two regions
     (their symmetric difference) against the section's perimeter x ε. ``right`` when valid,
-    closed, Hausdorff <= 1.5 ε and the area below perimeter x ε."""
+    closed, Hausdorff <= 1.5 ε and the area below perimeter x ε. ``hole``: the mid-plane
+    crosses a hole of the mesh (`hole_spans`), where the section is open and judges nothing.
+    """
     from wavepoly.sections import mesh_section
     from wavepoly.staircase import region
     from wavepoly.types import Contour
 
-    rows = []
+    rows, holes = [], hole_spans(mesh, result.basis)
     for layer in result.layers:
         truth = [Contour(xy, closed) for xy, closed in mesh_section(mesh, result.basis, layer.z)]
         got = layer.fit.contours
         row = {"z": layer.z, "truth": len(truth), "contours": len(got),
                "valid": layer.fit.validity is None or layer.fit.validity.valid,
-               "closed": all(c.closed for c in got) and bool(got) == bool(truth)}
+               "closed": all(c.closed for c in got) and bool(got) == bool(truth),
+               "hole": any(lo <= layer.z <= hi for lo, hi in holes)}
         if truth and got:
             lines = [shapely.linearrings(c.vertices) if c.closed else
                      shapely.linestrings(c.vertices) for c in truth]
@@ -136,6 +139,37 @@ def layer_agreement(mesh, result, eps: float) -> list[dict]:
                             and row["sym_diff"] < 1.0)
         rows.append(row)
     return rows
+
+
+def hole_spans(mesh, basis: np.ndarray) -> list[tuple[float, float]]:
+    """The heights (along ``basis[2]``) that each hole of the mesh spans: a loop of boundary
+    edges (edges of one face). A plane within a hole's span meets an open surface there (the
+    zippered bunny has four holes in its base and one in its side): its exact section bounds
+    no region, so the layer's area cannot be judged against it, nor its closing."""
+    import trimesh
+
+    m = trimesh.Trimesh(np.asarray(mesh.vertices), np.asarray(mesh.faces), process=True)
+    boundary = m.edges[trimesh.grouping.group_rows(m.edges_sorted, require_count=1)]
+    heights = m.vertices @ np.asarray(basis)[2]
+    return [(float(heights[loop].min()), float(heights[loop].max()))
+            for loop in trimesh.graph.connected_components(boundary, min_len=3)]
+
+
+def closed_mesh(mesh):
+    """The mesh with each hole (`hole_spans`) fanned shut from its centroid, the fan wound
+    against the faces along it: the solid that a scan with holes stands for, whose volume
+    the layer model's is compared with."""
+    import trimesh
+
+    m = trimesh.Trimesh(np.asarray(mesh.vertices), np.asarray(mesh.faces), process=True)
+    boundary = m.edges[trimesh.grouping.group_rows(m.edges_sorted, require_count=1)]
+    vertices, faces = [m.vertices], [m.faces]
+    for loop in trimesh.graph.connected_components(boundary, min_len=3):
+        edges = boundary[np.isin(boundary[:, 0], loop)]
+        centre = len(m.vertices) + len(vertices) - 1
+        vertices.append(m.vertices[np.unique(edges)].mean(axis=0, keepdims=True))
+        faces.append(np.column_stack([edges[:, 1], edges[:, 0], np.full(len(edges), centre)]))
+    return trimesh.Trimesh(np.vstack(vertices), np.vstack(faces), process=False)
 
 
 def noisy_surface_cloud(mesh, n: int, sigma: float, seed: int = 0) -> np.ndarray:

@@ -14,7 +14,9 @@ carries it into the plane. On a vertical wall it does not move sideways; on a sl
 better than the noise times cot φ: there the surface is fitted again as a height field over
 `WIDE_FACTOR` times the neighbours, and gives points only where its slope stands
 `MIN_SLOPE_SCORE` standard errors out of the noise (a dome's shallow crossing, not a face
-lying in the plane), and only a short way. A point is only
+lying in the plane), and only a short way, along the height field's bend rather than its
+tangent (a shallow surface curves within its slide: the tangent of a ridge's flank reaches
+a plane that the ridge's crest stays below, and joined an ear to the bunny's head). A point is only
 moved where its own neighbourhood straddles the mid-plane (the surface it stands for is known
 there), so a cap or a ledge inside the slab that does not cross the mid-plane gives no section
 points, and nothing is extrapolated past an end of the object. Thus a band becomes a line
@@ -119,8 +121,8 @@ def surface_samples(uvh: FloatArray, k: int = SURFACE_NEIGHBOURS,
     own = np.arange(len(uvh))[rows if rows is not None else slice(None)]
     own = own[own % step == 0] // step
     planes = _planes(nodes, tree, own, min(k, len(nodes)))
-    score = _refine_shallow(nodes, tree, own, planes, min(WIDE_FACTOR * k, len(nodes)))
-    return SurfaceSamples(nodes[own], *planes, score)
+    score, bend = _refine_shallow(nodes, tree, own, planes, min(WIDE_FACTOR * k, len(nodes)))
+    return SurfaceSamples(nodes[own], *planes, score, bend)
 
 
 def node_step(uvh: FloatArray, k: int = SURFACE_NEIGHBOURS) -> tuple[int, cKDTree]:
@@ -172,17 +174,20 @@ def _planes(nodes: FloatArray, tree: cKDTree, which: IntArray, k: int
 
 
 def _refine_shallow(nodes: FloatArray, tree: cKDTree, which: IntArray,
-                    planes: tuple[FloatArray, ...], k: int) -> FloatArray:
+                    planes: tuple[FloatArray, ...], k: int) -> tuple[FloatArray, FloatArray]:
     """Where the tangent plane is shallow (within `MIN_STEEPNESS` of the slicing plane), fit
     the surface again as a height field over the plane, a quadric over ``k`` neighbours, and
     put its normal, offset, height range and radius in ``planes`` (in place). Returns each
     point's slope over its standard error there (inf elsewhere): a surface is known to cross
-    a plane at a shallow angle only when its slope stands out of the noise."""
+    a plane at a shallow angle only when its slope stands out of the noise; and the
+    quadric's second-order term along its slope (0 elsewhere): a shallow surface bends
+    within the distance that it slides (a ridge's crest, a dome's top)."""
     normals, low, high, radius, _, offset = planes
     score = np.full(len(which), np.inf)
+    bend = np.zeros(len(which))
     shallow = np.flatnonzero(1.0 - normals[:, 2] ** 2 < MIN_STEEPNESS**2)
     if k <= 6 or not len(shallow):
-        return score
+        return score, bend
     residual = np.empty(len(shallow))
     for start in range(0, len(shallow), WIDE_CHUNK):
         rows = shallow[start:start + WIDE_CHUNK]
@@ -196,6 +201,8 @@ def _refine_shallow(nodes: FloatArray, tree: cKDTree, which: IntArray,
         grad = coef[:, 1:3]
         slope = np.hypot(grad[:, 0], grad[:, 1])
         along = grad / np.maximum(slope, 1e-300)[:, None]
+        bend[rows] = (coef[:, 3] * along[:, 0] ** 2 + coef[:, 4] * along[:, 0] * along[:, 1]
+                      + coef[:, 5] * along[:, 1] ** 2)
         var = noise * np.einsum("ni,nij,nj->n", along, inverse[:, 1:3, 1:3], along)
         score[rows] = slope / np.sqrt(np.maximum(var, 1e-300))
         score[rows[slope > np.tan(np.arcsin(MIN_STEEPNESS))]] = 0.0  # steep: not one surface
@@ -208,7 +215,7 @@ def _refine_shallow(nodes: FloatArray, tree: cKDTree, which: IntArray,
     # a height field that fits far worse than the shallow surfaces' typical one spans an edge
     # (a cap and the wall under it): its slope is the edge's, not a surface's
     score[shallow[residual > EDGE_RESIDUAL * np.median(residual)]] = 0.0
-    return score
+    return score, bend
 
 
 def _quadric_offset(centred: FloatArray, own: FloatArray, axes: FloatArray) -> FloatArray:
@@ -253,14 +260,29 @@ def section_points(surface: SurfaceSamples, rows: slice, z: float) -> FloatArray
     # than its radius, so nothing is lost but redundancy)
     reaches = (surface.low[rows] <= z) & (z <= surface.high[rows])
     steep = (along >= MIN_STEEPNESS**2) | (surface.slope_score[rows] >= MIN_SLOPE_SCORE)
-    scale = np.divide(dh, along, out=np.zeros_like(dh), where=steep)
-    shift = -scale[:, None] * n[:, 2:3] * n[:, :2]
-    slide = np.hypot(shift[:, 0], shift[:, 1])
+    # a vertical wall's slope is capped (it slides by dh / 1e12: nothing)
+    slope = np.sqrt(along) / np.maximum(np.abs(n[:, 2]), 1e-12)
+    distance, crosses = _slide_distance(dh, slope, surface.bend[rows])
+    up = -np.sign(n[:, 2:3]) * n[:, :2] / np.maximum(np.sqrt(along), 1e-300)[:, None]
+    shift = np.where(steep[:, None], distance[:, None] * up, 0.0)
+    slide = np.abs(np.where(steep, distance, 0.0))
     planar = surface.flatness[rows] <= MAX_FLATNESS
     # a shallow surface curves away from its tangent plane sooner (it turns to a wall)
     reach = np.where(np.isfinite(surface.slope_score[rows]), MAX_SHALLOW_SLIDE, MAX_SLIDE)
-    keep = reaches & steep & planar & (slide <= reach * radius)
+    keep = reaches & steep & crosses & planar & (slide <= reach * radius)
     return _without_strays(uvh[keep, :2] + shift[keep])
+
+
+def _slide_distance(dh: FloatArray, slope: FloatArray, bend: FloatArray
+                    ) -> tuple[FloatArray, FloatArray]:
+    """How far up its slope (negative: down) each point reaches the height ``dh`` above it,
+    on the surface ``slope · s + bend · s²``, and whether it does: the root nearest to the
+    point (the tangent plane's ``dh / slope`` where ``bend`` is 0); a surface that turns
+    before it reaches the plane (a ridge whose crest is below it) does not."""
+    disc = slope**2 + 4.0 * bend * dh
+    crosses = (disc >= 0) & (slope > 0)
+    root = slope + np.sqrt(np.maximum(disc, 0.0))
+    return np.divide(2.0 * dh, root, out=np.zeros_like(dh), where=crosses), crosses
 
 
 def _without_strays(xy: FloatArray) -> FloatArray:

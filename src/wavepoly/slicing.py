@@ -38,6 +38,7 @@ import numpy as np
 
 from .bands import (
     band_of,
+    closed_up,
     fit_layer,
     fit_layer_job,
     held_over,
@@ -242,7 +243,9 @@ def slice_mesh(mesh, tolerance: float, *, layer_thickness: float,
                axis: str | FloatArray = "z") -> SliceResult:
     """Slice a triangle mesh (trimesh) from its faces: each layer's contours are the exact
     section at its mid-plane, simplified to the fewest vertices within ``tolerance``
-    (`wavepoly.polylines`). The model error is the staircase error of the mesh's vertices.
+    (`wavepoly.polylines`), and bridged across the gaps that a hole in the scanned mesh
+    leaves, as a cloud's are (`wavepoly.bands.closed_up`). The model error is the staircase
+    error of the mesh's vertices.
     """
     tolerance = check_tolerance(tolerance)
     step = check_tolerance(layer_thickness, "layer_thickness")
@@ -251,7 +254,8 @@ def slice_mesh(mesh, tolerance: float, *, layer_thickness: float,
     uvh = np.asarray(mesh.vertices, float) @ basis.T
     uvh = uvh[np.argsort(uvh[:, 2], kind="stable")]
     bottoms, thick = uniform_layers(uvh[0, 2], uvh[-1, 2], step)
-    fits = [fit_polylines(mesh_section(mesh, basis, b + t / 2), tolerance, float(b + t / 2))
+    fits = [closed_up(fit_polylines(mesh_section(mesh, basis, b + t / 2), tolerance,
+                                    float(b + t / 2)), max_gap(float(t), tolerance))
             for b, t in zip(bottoms, thick)]
     fitting = time.perf_counter() - t0
     t0 = time.perf_counter()

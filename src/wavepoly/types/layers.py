@@ -17,7 +17,9 @@ class SurfaceSamples:
     middle one (0 on a plane, larger across an edge); offset: each point's signed distance
     from its tangent plane (through its neighbourhood's centroid), along its normal;
     slope_score: where the surface is shallow, its slope over the slope's standard error
-    (from a wider neighbourhood, which then also gives the other fields); inf where steep.
+    (from a wider neighbourhood, which then also gives the other fields); inf where steep;
+    bend: where shallow, the height field's second-order term along its steepest direction
+    (height ≈ slope · s + bend · s² at a distance s up the slope), 0 where steep.
     """
 
     uvh: FloatArray
@@ -28,6 +30,7 @@ class SurfaceSamples:
     flatness: FloatArray
     offset: FloatArray
     slope_score: FloatArray
+    bend: FloatArray
 
 
 @dataclass(frozen=True)
