@@ -129,11 +129,9 @@ def held_over(fits: list[FitResult], bottoms: FloatArray, tops: FloatArray,
     in two. A run of such layers between two closed ones is split where the staircase error
     of the run and of the layers either side is smallest: the layers below the split take
     the contours under the run, the others those over it (a ledge's top face is exposed only
-    where the layer over it is not a copy of it); such runs longer than `MAX_HELD_RUN` are
-    left as they are (a gap in the scan, not a face). A run at an end of the stack, of any
-    length, takes its one neighbour's contours: an end that the scan saw only in part (a
-    base on the scanner's table, full of holes) is the object's end face, and left as it
-    is, its fragments would stand apart from the solid. Their own section points are
+    where the layer over it is not a copy of it); runs longer than `MAX_HELD_RUN` are left
+    as they are (a gap in the scan, not a face); a run at an end of the stack takes its
+    one neighbour's contours only where that lowers the error. Their own section points are
     then outliers, and their staircase errors say how far the kept contours are.
 
     ``errors_of`` computes the `ErrorJob` of each layer ``k`` (their slabs left empty: the caller
@@ -141,16 +139,20 @@ def held_over(fits: list[FitResult], bottoms: FloatArray, tops: FloatArray,
     """
     out = list(fits)
     for a, b in _broken_runs(fits):
+        if b - a + 1 > MAX_HELD_RUN:
+            continue
         anchors = [j for j in (a - 1, b + 1) if 0 <= j < len(fits) and _solid(fits[j])]
-        if not anchors or (len(anchors) == 2 and b - a + 1 > MAX_HELD_RUN):
+        if not anchors:
             continue
         if len(anchors) == 2:  # the run must not cut the solid: it is split between them
-            options = list(range(a - 1, b + 1))
-            asks = [job for m in options for job in _split_jobs(fits, a, b, m, bottoms, tops)]
-            errors = np.array(errors_of(asks)).reshape(len(options), -1).max(axis=1)
-            split = options[int(np.argmin(errors))]
-        else:  # at an end of the stack: the end face, of the anchor's contours
-            split = b if anchors == [a - 1] else a - 1
+            options: list[int | None] = list(range(a - 1, b + 1))
+        else:  # at an end of the stack: the anchor's contours, or the run as it is
+            options = [b if anchors == [a - 1] else a - 1, None]
+        asks = [job for m in options for job in _split_jobs(fits, a, b, m, bottoms, tops)]
+        errors = np.array(errors_of(asks)).reshape(len(options), -1).max(axis=1)
+        split = options[int(np.argmin(errors))]
+        if split is None:
+            continue
         for k in range(a, b + 1):
             j = a - 1 if k <= split else b + 1
             out[k] = _kept(fits[k], fits[j], "below" if j < k else "above")
