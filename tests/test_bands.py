@@ -114,3 +114,28 @@ def test_a_layer_of_open_pieces_between_closed_ones_keeps_the_better_neighbour()
     assert held_over(lone, np.zeros(2), np.ones(2), errors_of)[0] is ledge
     gap = [wide, ledge, ledge, ledge, narrow]  # three broken layers: a gap in the scan
     assert held_over(gap, np.arange(5.0), np.arange(1.0, 6), errors_of)[1:4] == [ledge] * 3
+
+
+def test_an_end_of_the_stack_seen_full_of_holes_stands_on_the_solid():
+    """Three broken layers under the first closed one (a base that the scanner saw through
+    holes): their points lie within the closed layer's region, so they take its contours;
+    points far outside it (a side that the scans never saw) leave the run as it is."""
+    from dataclasses import replace
+
+    from wavepoly.bands import held_over
+    from wavepoly.types import Contour, FitResult
+
+    ring = FitResult([Contour(2.0 * np.array([[-1.0, -1], [1, -1], [1, 1], [-1, 1]]), True)],
+                     0.1, 0.05, 0.02, np.array([], int), 40)
+    piece = FitResult([Contour(np.array([[-2.0, -2.05], [2.0, -2.05], [2.0, 2.0]]), False)],
+                      0.1, 0.05, 0.02, np.array([], int), 30)
+    stack = [piece, piece, piece, ring, ring]
+    for shift, kept in ((0.0, True), (3.0, False)):
+        t = np.linspace(0, 1, 50)
+        walls = np.column_stack([-1.9 + 3.8 * t + shift, np.full_like(t, -1.95), t])
+
+        def errors_of(asks, walls=walls):
+            return [layer_error_job(replace(job, slab=walls + [0, 0, k])) for k, job in asks]
+
+        fits = held_over(stack, np.arange(5.0), np.arange(1.0, 6), errors_of, tolerance=0.1)
+        assert all((f.contours[0] is ring.contours[0]) == kept for f in fits[:3])

@@ -25,7 +25,7 @@ from .fit import fit
 from .geometry import nest_contours, orient_by_depth, polyline_length
 from .polylines import close_gaps
 from .sections import SURFACE_NEIGHBOURS, section_points, surface_samples
-from .staircase import slab_errors
+from .staircase import outside_distances, slab_errors
 from .types import ErrorJob, FitResult, FloatArray, IntArray, LayerJob, LayerSpec
 from .validity import check_contours
 
@@ -39,6 +39,10 @@ GAP_TOLERANCES = 4.0
 #: Longest run of broken layers held over from their neighbours: a plane nearly touching a
 #: face breaks a layer or two; a longer run is a gap in the scan, which a copy would hide.
 MAX_HELD_RUN = 2
+#: A run at an end of the stack takes its neighbour's contours when its points lie within this
+#: many tolerances of their region: the neighbour's contours are within one of its own points,
+#: and the walls of the run lean out from them a little more (1.2 at the bunny's base).
+END_FACE_REACH = 2.0
 
 
 def max_gap(thickness: float, tolerance: float) -> float:
@@ -121,8 +125,8 @@ def closed_up(res: FitResult, gap: float) -> FitResult:
 
 
 def held_over(fits: list[FitResult], bottoms: FloatArray, tops: FloatArray,
-              errors_of: Callable[[list[tuple[int, ErrorJob]]], list[float]]
-              ) -> list[FitResult]:
+              errors_of: Callable[[list[tuple[int, ErrorJob]]], list[float]],
+              tolerance: float | None = None) -> list[FitResult]:
     """The fits of a stack of layers, where layers whose sections gave mostly open pieces (the
     plane nearly touches a face, as at a ledge, and the section is ill-posed there) take the
     closed contours of a neighbour: a layer model is a solid, and an open layer would cut it
@@ -130,33 +134,60 @@ def held_over(fits: list[FitResult], bottoms: FloatArray, tops: FloatArray,
     of the run and of the layers either side is smallest: the layers below the split take
     the contours under the run, the others those over it (a ledge's top face is exposed only
     where the layer over it is not a copy of it); runs longer than `MAX_HELD_RUN` are left
-    as they are (a gap in the scan, not a face); a run at an end of the stack takes its
-    one neighbour's contours only where that lowers the error. Their own section points are
-    then outliers, and their staircase errors say how far the kept contours are.
+    as they are (a gap in the scan, not a face). A run at an end of the stack takes its one
+    neighbour's contours where all its points lie near that neighbour's region (within
+    `END_FACE_REACH` tolerances: an end face that the scan saw full of holes, as a base on
+    the scanner's table; left as it is, its fragments would stand apart from the solid),
+    or, for a short run, where that lowers the error. Their own section points are then
+    outliers, and their staircase errors say how far the kept contours are.
 
     ``errors_of`` computes the `ErrorJob` of each layer ``k`` (their slabs left empty: the caller
     holds the points, or the workers do).
     """
     out = list(fits)
     for a, b in _broken_runs(fits):
-        if b - a + 1 > MAX_HELD_RUN:
-            continue
         anchors = [j for j in (a - 1, b + 1) if 0 <= j < len(fits) and _solid(fits[j])]
         if not anchors:
             continue
         if len(anchors) == 2:  # the run must not cut the solid: it is split between them
-            options: list[int | None] = list(range(a - 1, b + 1))
-        else:  # at an end of the stack: the anchor's contours, or the run as it is
-            options = [b if anchors == [a - 1] else a - 1, None]
-        asks = [job for m in options for job in _split_jobs(fits, a, b, m, bottoms, tops)]
-        errors = np.array(errors_of(asks)).reshape(len(options), -1).max(axis=1)
-        split = options[int(np.argmin(errors))]
+            split = _best_split(fits, a, b, bottoms, tops, errors_of)
+        else:
+            split = _end_split(fits, a, b, anchors[0], bottoms, tops, errors_of, tolerance)
         if split is None:
             continue
         for k in range(a, b + 1):
             j = a - 1 if k <= split else b + 1
             out[k] = _kept(fits[k], fits[j], "below" if j < k else "above")
     return out
+
+
+def _best_split(fits: list[FitResult], a: int, b: int, bottoms: FloatArray, tops: FloatArray,
+                errors_of: Callable) -> int | None:
+    """Where a run between two closed layers is split (None: too long, left as it is)."""
+    if b - a + 1 > MAX_HELD_RUN:
+        return None
+    options = list(range(a - 1, b + 1))
+    asks = [job for m in options for job in _split_jobs(fits, a, b, m, bottoms, tops)]
+    errors = np.array(errors_of(asks)).reshape(len(options), -1).max(axis=1)
+    return options[int(np.argmin(errors))]
+
+
+def _end_split(fits: list[FitResult], a: int, b: int, anchor: int, bottoms: FloatArray,
+               tops: FloatArray, errors_of: Callable, tolerance: float | None) -> int | None:
+    """The split that gives a run at an end of the stack its anchor's contours, or None."""
+    copy = b if anchor == a - 1 else a - 1
+    if tolerance is not None:
+        asks = [(k, ErrorJob(np.empty((0, 3)), float(bottoms[k]), float(tops[k]),
+                             fits[anchor].contours, None, None, outside=True))
+                for k in range(a, b + 1)]
+        if max(errors_of(asks)) <= END_FACE_REACH * tolerance:
+            return copy
+    if b - a + 1 > MAX_HELD_RUN:
+        return None
+    options = [copy, None]
+    asks = [job for m in options for job in _split_jobs(fits, a, b, m, bottoms, tops)]
+    errors = np.array(errors_of(asks)).reshape(len(options), -1).max(axis=1)
+    return options[int(np.argmin(errors))]
 
 
 def _solid(f: FitResult) -> bool:
@@ -211,8 +242,11 @@ def _kept(own: FitResult, neighbour: FitResult, where: str) -> FitResult:
 
 
 def layer_error_job(job: ErrorJob) -> float:
-    """The largest staircase error of a layer's slab (0 without points)."""
+    """The largest staircase error of a layer's slab (0 without points), or with
+    ``job.outside`` the largest distance of its points outside the region of ``job.own``."""
     if not len(job.slab):
         return 0.0
+    if job.outside:
+        return float(outside_distances(job.slab[:, :2], job.own).max())
     errs = slab_errors(job.slab, job.bottom, job.top, job.own, job.below, job.above)
     return float(errs.max())

@@ -145,7 +145,7 @@ def slice_cloud(points3d: FloatArray, tolerance: float, *, axis: str | FloatArra
         thick = np.array([p[1] for p in plan])
         fits = held_over([p[2] for p in plan], bottoms, bottoms + thick,
                          lambda asks: [layer_error_job(replace(job, slab=_slab(uvh, job)))
-                                       for _, job in asks])
+                                       for _, job in asks], tolerance)
         timings = {"planning": time.perf_counter() - t0, "fitting": 0.0}
         t0 = time.perf_counter()
         errors = layer_errors(uvh, bottoms, bottoms + thick, [f.contours for f in fits])
@@ -162,7 +162,7 @@ def slice_cloud(points3d: FloatArray, tolerance: float, *, axis: str | FloatArra
             fit_layer_job, band_jobs(uvh, starts, tasks), workers, progress))
         fits = held_over(fits, bottoms, bottoms + thick, lambda asks: run_jobs(
             layer_error_job, [replace(job, slab=uvh[starts[k]:starts[k + 1]])
-                              for k, job in asks], workers))
+                              for k, job in asks], workers), tolerance)
         timings["fitting"] = time.perf_counter() - t0
         t0 = time.perf_counter()
         errors = run_jobs(layer_error_job, error_jobs(

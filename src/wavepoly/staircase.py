@@ -78,6 +78,15 @@ def _polylines(geom: shapely.Geometry) -> list[tuple[FloatArray, bool]]:
     return out
 
 
+def outside_distances(xy: FloatArray, contours: list[Contour]) -> FloatArray:
+    """In-plane distance of each point to the region of ``contours`` (0 inside; inf if the
+    contours bound no region)."""
+    area = region(contours)
+    if shapely.is_empty(area) or shapely.area(area) == 0:
+        return np.full(len(xy), np.inf)
+    return _to(area, xy)
+
+
 def slab_errors(uvh: FloatArray, bottom: float, top: float, contours: list[Contour],
                 below: list[Contour] | None, above: list[Contour] | None) -> FloatArray:
     """Distance of each slab point (u, v, height) to the surface of the layer stack near it.

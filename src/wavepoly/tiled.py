@@ -162,7 +162,7 @@ def _slice_on(client, engine: dict, paths: list[Path], tolerance: float, step: f
         return _gathered(client, futures, progress, done, len(specs))
 
     fits = held_over(fit_bands(specs, run), bottoms, bottoms + thick, lambda asks: client.gather(
-        [client.submit(_error_of, job, layers[k], pure=False) for k, job in asks]))
+        [client.submit(_error_of, job, layers[k], pure=False) for k, job in asks]), tolerance)
     timings["fitting"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     jobs = error_jobs(specs, [f.contours for f in fits], lambda k: None)

@@ -72,7 +72,8 @@ class LayerJob:
 @dataclass(frozen=True)
 class ErrorJob:
     """One layer's staircase error: its slab's points (u, v, height) and the contours of the
-    layer and of its neighbours (None: no layer there)."""
+    layer and of its neighbours (None: no layer there). ``outside``: measure instead how far
+    the slab's points lie outside the region of ``own`` (0 within it)."""
 
     slab: FloatArray
     bottom: float
@@ -80,6 +81,7 @@ class ErrorJob:
     own: list[Contour]
     below: list[Contour] | None
     above: list[Contour] | None
+    outside: bool = False
 
 
 @dataclass(frozen=True)
