@@ -141,6 +141,32 @@ def layer_agreement(mesh, result, eps: float) -> list[dict]:
     return rows
 
 
+def partial_agreement(mesh, result, eps: float) -> list[dict]:
+    """For a scan that saw only part of the object: per layer with a section and contours,
+    ``on_truth``, the largest distance (in ε) of the drawn contours to the exact section
+    (what is drawn lies on the object), and ``covered``, the fraction of the section's
+    length within 1.5 ε of the drawn contours (how much of it the scan saw and the layer
+    shows)."""
+    from wavepoly.sections import mesh_section
+
+    def lines(curves):
+        return shapely.union_all([shapely.linearrings(xy) if closed else
+                                  shapely.linestrings(xy) for xy, closed in curves])
+
+    rows = []
+    for layer in result.layers:
+        truth = mesh_section(mesh, result.basis, layer.z)
+        got = [(c.vertices, c.closed) for c in layer.fit.contours]
+        if not truth or not got:
+            continue
+        exact, drawn = lines(truth), lines(got)
+        along = shapely.points(shapely.get_coordinates(shapely.segmentize(drawn, eps / 10)))
+        rows.append({"z": layer.z, "on_truth": float(shapely.distance(along, exact).max()) / eps,
+                     "covered": float(shapely.length(shapely.intersection(
+                         exact, shapely.buffer(drawn, 1.5 * eps))) / shapely.length(exact))})
+    return rows
+
+
 def hole_spans(mesh, basis: np.ndarray) -> list[tuple[float, float]]:
     """The heights (along ``basis[2]``) that each hole of the mesh spans: a loop of boundary
     edges (edges of one face). A plane within a hole's span meets an open surface there (the
