@@ -73,7 +73,7 @@ class LayerJob:
 class ErrorJob:
     """One layer's staircase error: its slab's points (u, v, height) and the contours of the
     layer and of its neighbours (None: no layer there). ``outside``: measure instead how far
-    the slab's points lie outside the region of ``own`` (0 within it)."""
+    the slab's points lie outside the region of ``own`` (0 within it), all but a few."""
 
     slab: FloatArray
     bottom: float
