@@ -131,6 +131,33 @@ def test_layer_files_read_back(tmp_path):
     assert sum(b.volume for b in bodies) == pytest.approx(ring_area * 6.0, rel=0.05)
 
 
+def test_cavities_narrower_than_the_tolerance_are_filled_larger_ones_kept():
+    """A layer's hole covered by the layers above and below is an enclosed cavity: one much
+    narrower than the tolerance (a scan artefact) is filled, so the STL is one body; a hollow
+    box's cavity stays (two shells, the inner one of negative volume)."""
+    from wavepoly.types import Contour, FitResult, Layer, SliceResult
+
+    def square(half, ccw=True):
+        v = half * np.array([[-1.0, -1], [1, -1], [1, 1], [-1, 1]])
+        return Contour(v if ccw else v[::-1], True)
+
+    def model(hole):
+        def layer(k, contours):
+            fit = FitResult(contours, 0.1, 0.0, 0.0, np.array([], int), 10)
+            return Layer(float(k), 1.0, (float(k), k + 1.0), fit, 10, 0.0)
+
+        layers = [layer(0, [square(5.0)]), layer(1, [square(5.0), square(hole, False)]),
+                  layer(2, [square(5.0)])]
+        return layer_mesh(SliceResult(layers, np.eye(3), 0.1, False, 30))
+
+    pinhole = model(0.02)
+    assert pinhole.is_watertight and pinhole.body_count == 1
+    assert pinhole.volume == pytest.approx(300.0, rel=1e-3)
+    hollow = model(3.0)
+    assert hollow.is_watertight and hollow.body_count == 2
+    assert hollow.volume == pytest.approx(300.0 - 36.0, rel=1e-3)
+
+
 def test_bad_slicing_input_is_named():
     pts = tube_with_hole(2000)
     with pytest.raises(ParameterError, match="layer thickness"):

@@ -110,7 +110,8 @@ def layer_mesh(result: SliceResult, *, separate: bool = False):
     winding-consistent solid per connected part of the object (``separate=False``), or each
     layer stays a closed body of its own, sharing no faces with the next (``separate=True``:
     every prism is shrunk by a hair along the axis so that neighbours do not touch). Open
-    contours bound no area and are left out.
+    contours bound no area and are left out; the union's enclosed cavities narrower than the
+    tolerance are filled (`VOID_FILL`).
     """
     import trimesh
     from manifold3d import CrossSection, FillRule, Manifold, OpType
@@ -131,9 +132,27 @@ def layer_mesh(result: SliceResult, *, separate: bool = False):
     if separate:
         meshes = [_to_trimesh(p, result) for p in prisms]
         return trimesh.util.concatenate(meshes)
-    return _to_trimesh(Manifold.batch_boolean(prisms, OpType.Add), result)
+    solid = Manifold.batch_boolean(prisms, OpType.Add)
+    return _to_trimesh(_small_voids_filled(solid, result), result)
 
 
+def _small_voids_filled(solid, result: SliceResult):
+    """The union without its enclosed cavities smaller than `VOID_FILL`: a layer's hole that
+    the layers above and below cover, narrower than the tolerance resolves (at the zippered
+    bunny's base holes, the mesh's own loops of half a tolerance), would print as a separate
+    shell of no use; larger cavities (a hollow part) stay."""
+    from manifold3d import Manifold
+
+    parts = solid.decompose()
+    thickest = max(la.thickness for la in result.layers)
+    limit = VOID_FILL * (2.0 * result.tolerance) ** 2 * thickest
+    kept = [p for p in parts if p.volume() >= 0 or -p.volume() > limit]
+    return solid if len(kept) == len(parts) else Manifold.compose(kept)
+
+
+#: Enclosed cavities of the union smaller than this many (2 tolerances)^2 x the thickest layer
+#: (a hole 2 tolerances wide through one layer) are filled; larger ones are kept.
+VOID_FILL = 1.0
 #: For the union, each prism reaches this fraction of its thickness into its neighbours, so
 #: that a top and the next bottom that differ by round-off still fuse into one solid.
 OVERLAP = 1e-4
