@@ -66,3 +66,28 @@ def test_segment_distances_match_shapely(seed, count):
     near = want < limit
     np.testing.assert_allclose(got[near], want[near], atol=1e-12)
     assert np.all(got[~near] >= limit - 1e-12)
+
+
+def test_a_point_deep_in_a_stack_of_thin_layers_is_measured_to_the_whole_stack():
+    """Ten layers of one 100 x 100 square, 1 thick: a point at the middle of the stack is 4.5
+    from its top face (its own and its neighbours' walls are 50 away); so is the answer of
+    the jobs that the pool and the cluster run (`bands.farther_jobs`)."""
+    from dataclasses import replace
+
+    from wavepoly.bands import farther_jobs, layer_error_job
+    from wavepoly.staircase import layer_errors
+    from wavepoly.types import ErrorJob
+
+    square = [Contour(50.0 * np.array([[-1.0, -1], [1, -1], [1, 1], [-1, 1]]), True)]
+    bottoms, tops = np.arange(10.0), np.arange(1.0, 11.0)
+    contours = [square] * 10
+    uvh = np.array([[0.0, 0.0, 5.5]])
+    errors = layer_errors(uvh, bottoms, tops, contours)
+    assert errors[5] == np.float64(4.5) and errors[0] == 0.0
+    jobs = [ErrorJob(uvh if k == 5 else np.empty((0, 3)), bottoms[k], tops[k], square,
+                     square if k else None, square if k < 9 else None) for k in range(10)]
+    first = [layer_error_job(job) for job in jobs]
+    assert first[5] > 40  # the neighbours alone: their walls
+    again = farther_jobs(jobs, first, bottoms, tops, contours)
+    assert [k for k, _ in again] == [5]
+    assert layer_error_job(replace(again[0][1])) == np.float64(4.5)

@@ -25,7 +25,7 @@ from .fit import fit
 from .geometry import nest_contours, orient_by_depth, polyline_length
 from .polylines import close_gaps
 from .sections import SURFACE_NEIGHBOURS, section_points, surface_samples
-from .staircase import outside_distances, slab_errors
+from .staircase import farther_layers, outside_distances, slab_errors
 from .types import ErrorJob, FitResult, FloatArray, IntArray, LayerJob, LayerSpec
 from .validity import check_contours
 
@@ -254,5 +254,19 @@ def layer_error_job(job: ErrorJob) -> float:
     if job.outside:
         return float(np.quantile(outside_distances(job.slab[:, :2], job.own),
                                  1.0 - END_FACE_STRAYS))
-    errs = slab_errors(job.slab, job.bottom, job.top, job.own, job.below, job.above)
+    errs = slab_errors(job.slab, job.bottom, job.top, job.own, job.below, job.above,
+                       job.farther_below, job.farther_above)
     return float(errs.max())
+
+
+def farther_jobs(jobs: list[ErrorJob], errors: list[float], bottoms: FloatArray,
+                 tops: FloatArray, contours: list[list]) -> list[tuple[int, ErrorJob]]:
+    """The error jobs of the layers whose error reaches past their neighbours, with the layers
+    farther out that it reaches (`wavepoly.staircase.farther_layers`): run again, they give
+    the distance to the surface of the whole stack, never more than the first answer."""
+    again = []
+    for k, (job, err) in enumerate(zip(jobs, errors)):
+        below, above = farther_layers(k, err, bottoms, tops, contours)
+        if below or above:
+            again.append((k, replace(job, farther_below=below, farther_above=above)))
+    return again

@@ -39,6 +39,7 @@ import numpy as np
 from .bands import (
     band_of,
     closed_up,
+    farther_jobs,
     fit_layer,
     fit_layer_job,
     held_over,
@@ -165,9 +166,12 @@ def slice_cloud(points3d: FloatArray, tolerance: float, *, axis: str | FloatArra
                               for k, job in asks], workers), tolerance)
         timings["fitting"] = time.perf_counter() - t0
         t0 = time.perf_counter()
-        errors = run_jobs(layer_error_job, error_jobs(
-            specs, [f.contours for f in fits], lambda k: uvh[starts[k]:starts[k + 1]]),
-            workers)
+        jobs = error_jobs(specs, [f.contours for f in fits],
+                          lambda k: uvh[starts[k]:starts[k + 1]])
+        errors = run_jobs(layer_error_job, jobs, workers)
+        again = farther_jobs(jobs, errors, bottoms, bottoms + thick, [f.contours for f in fits])
+        for (k, _), err in zip(again, run_jobs(layer_error_job, [j for _, j in again], workers)):
+            errors[k] = err
     counts = np.diff(layer_starts(uvh[:, 2], bottoms)) if not adaptive else np.diff(
         np.searchsorted(uvh[:, 2], np.append(bottoms, bottoms[-1] + thick[-1])))
     timings["model_error"] = time.perf_counter() - t0

@@ -5,8 +5,10 @@ from its bottom to its top; open contours stand for walls of no thickness. The s
 stack is made of each layer's side walls and of the parts of its top and bottom faces that the
 next layer does not cover (the symmetric difference of the two regions): the stair steps. A
 point of a layer's slab is measured against the walls and exposed faces of its own layer and
-of the layers just below and above, which hold the nearest surface whenever the error is below
-a layer's thickness. This is the staircase error that adaptive slicing keeps within ε.
+of the layers just below and above, and, where its error reaches past them (thinner
+neighbours, or a point inside a solid far from any wall), of the layers farther out until
+their height alone puts them beyond it: the distance to the surface of the whole stack.
+This is the staircase error that adaptive slicing keeps within ε.
 
 References
 ----------
@@ -87,17 +89,28 @@ def outside_distances(xy: FloatArray, contours: list[Contour]) -> FloatArray:
     return _to(area, xy)
 
 
+#: A layer farther out: (bottom, top, contours), or contours None for the end of the stack.
+Farther = tuple[float, float, "list[Contour] | None"]
+
+
 def slab_errors(uvh: FloatArray, bottom: float, top: float, contours: list[Contour],
-                below: list[Contour] | None, above: list[Contour] | None) -> FloatArray:
+                below: list[Contour] | None, above: list[Contour] | None,
+                farther_below: tuple[Farther, ...] = (),
+                farther_above: tuple[Farther, ...] = ()) -> FloatArray:
     """Distance of each slab point (u, v, height) to the surface of the layer stack near it.
 
     ``below`` / ``above`` are the contours of the neighbouring layers (None: no layer there,
-    so the whole face is exposed).
+    so the whole face is exposed); ``farther_below`` / ``farther_above`` the layers beyond
+    them, outward, ending with ``(height, height, None)`` where the stack ends.
     """
     def faces(cs):
         return None if cs is None else _Faces(region(cs), walls(cs))
 
-    return _slab_errors(uvh, bottom, top, faces(contours), faces(below), faces(above))
+    def far(layers):
+        return tuple((b, t, faces(cs)) for b, t, cs in layers)
+
+    return _slab_errors(uvh, bottom, top, faces(contours), faces(below), faces(above),
+                        far(farther_below), far(farther_above))
 
 
 class _Faces:
@@ -108,7 +121,8 @@ class _Faces:
 
 
 def _slab_errors(uvh: FloatArray, bottom: float, top: float, own: _Faces,
-                 below: _Faces | None, above: _Faces | None) -> FloatArray:
+                 below: _Faces | None, above: _Faces | None, farther_below: tuple = (),
+                 farther_above: tuple = ()) -> FloatArray:
     if not len(uvh):
         return np.empty(0)
     xy, h = uvh[:, :2], uvh[:, 2]
@@ -119,7 +133,47 @@ def _slab_errors(uvh: FloatArray, bottom: float, top: float, own: _Faces,
         _lower(err, dz, exposed, xy)
         if other is not None:  # the neighbour's own walls, one face away
             _lower(err, dz, other.lines, xy)
+    for near, layers, sign in ((above, farther_above, 1.0), (below, farther_below, -1.0)):
+        for b, t, faces in layers:  # outward: the face between near and it, then its walls
+            if near is None:
+                break
+            dz = sign * ((b if sign > 0 else t) - h)
+            _lower(err, dz, near.area if faces is None else
+                   shapely.symmetric_difference(near.area, faces.area), xy)
+            if faces is not None:
+                _lower(err, dz, faces.lines, xy)
+            near = faces
     return err
+
+
+def farther_layers(k: int, reach: float, bottoms: FloatArray, tops: FloatArray,
+                   contours: list) -> tuple[tuple[Farther, ...], tuple[Farther, ...]]:
+    """The layers beyond layer ``k``'s neighbours whose faces come within ``reach`` of its slab
+    in height, below and above (outward), each side ending with the end of the stack when it
+    is within reach: what its points must be measured against for errors up to ``reach``
+    (none for an infinite one: a layer with points and nothing to measure them against)."""
+    if not np.isfinite(reach):
+        return (), ()
+    n = len(bottoms)
+    above: list[Farther] = []
+    for j in range(k + 2, n + 1) if k + 1 < n else ():
+        if j == n:
+            if tops[n - 1] - tops[k] < reach:
+                above.append((float(tops[n - 1]), float(tops[n - 1]), None))
+            break
+        if bottoms[j] - tops[k] >= reach:
+            break
+        above.append((float(bottoms[j]), float(tops[j]), contours[j]))
+    below: list[Farther] = []
+    for j in range(k - 2, -2, -1) if k >= 1 else ():
+        if j == -1:
+            if bottoms[k] - bottoms[0] < reach:
+                below.append((float(bottoms[0]), float(bottoms[0]), None))
+            break
+        if bottoms[k] - tops[j] >= reach:
+            break
+        below.append((float(bottoms[j]), float(tops[j]), contours[j]))
+    return tuple(below), tuple(above)
 
 
 def _lower(err: FloatArray, dz: FloatArray, geom: shapely.Geometry, xy: FloatArray) -> None:
@@ -145,5 +199,10 @@ def layer_errors(uvh: FloatArray, bottoms: FloatArray, tops: FloatArray,
             continue
         below = faces[k - 1] if k > 0 else None
         above = faces[k + 1] if k + 1 < len(faces) else None
-        out.append(float(_slab_errors(uvh[s0:s1], b, t, faces[k], below, above).max()))
+        err = float(_slab_errors(uvh[s0:s1], b, t, faces[k], below, above).max())
+        far_below, far_above = farther_layers(k, err, bottoms, tops, faces)
+        if far_below or far_above:  # the error reaches past the neighbours
+            err = float(_slab_errors(uvh[s0:s1], b, t, faces[k], below, above, far_below,
+                                     far_above).max())
+        out.append(err)
     return out

@@ -29,7 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .bands import fit_layer_job, held_over, layer_error_job
+from .bands import farther_jobs, fit_layer_job, held_over, layer_error_job
 from .errors import DataError, EngineError
 from .io.tiles import expand_sources, merge_layer, read_cloud, tile_layers, tile_summary
 from .slicing import (
@@ -168,6 +168,11 @@ def _slice_on(client, engine: dict, paths: list[Path], tolerance: float, step: f
     jobs = error_jobs(specs, [f.contours for f in fits], lambda k: None)
     errors = client.gather([client.submit(_error_of, job, layers[k], pure=False)
                             for k, job in enumerate(jobs)])
+    again = farther_jobs(jobs, errors, bottoms, bottoms + thick, [f.contours for f in fits])
+    for (k, _), err in zip(again, client.gather([client.submit(_error_of, job, layers[k],
+                                                               pure=False)
+                                                 for k, job in again])):
+        errors[k] = err
     counts = np.array(client.gather(client.map(len, layers, pure=False)))
     timings["model_error"] = time.perf_counter() - t0
     frame = SliceResult([], basis, tolerance, False, total, timings, engine=engine)

@@ -72,8 +72,11 @@ class LayerJob:
 @dataclass(frozen=True)
 class ErrorJob:
     """One layer's staircase error: its slab's points (u, v, height) and the contours of the
-    layer and of its neighbours (None: no layer there). ``outside``: measure instead how far
-    the slab's points lie outside the region of ``own`` (0 within it), all but a few."""
+    layer and of its neighbours (None: no layer there); farther_below / farther_above: the
+    layers beyond them as (bottom, top, contours), outward, ending with (height, height,
+    None) at the end of the stack, where the error reaches past the neighbours
+    (`wavepoly.staircase.farther_layers`). ``outside``: measure instead how far the slab's
+    points lie outside the region of ``own`` (0 within it), all but a few."""
 
     slab: FloatArray
     bottom: float
@@ -82,6 +85,8 @@ class ErrorJob:
     below: list[Contour] | None
     above: list[Contour] | None
     outside: bool = False
+    farther_below: tuple = ()
+    farther_above: tuple = ()
 
 
 @dataclass(frozen=True)
