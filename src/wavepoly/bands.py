@@ -170,10 +170,7 @@ def _best_split(fits: list[FitResult], a: int, b: int, bottoms: FloatArray, tops
     """Where a run between two closed layers is split (None: too long, left as it is)."""
     if b - a + 1 > MAX_HELD_RUN:
         return None
-    options = list(range(a - 1, b + 1))
-    asks = [job for m in options for job in _split_jobs(fits, a, b, m, bottoms, tops)]
-    errors = np.array(errors_of(asks)).reshape(len(options), -1).max(axis=1)
-    return options[int(np.argmin(errors))]
+    return _least_error(list(range(a - 1, b + 1)), fits, a, b, bottoms, tops, errors_of)
 
 
 def _end_split(fits: list[FitResult], a: int, b: int, anchor: int, bottoms: FloatArray,
@@ -188,7 +185,13 @@ def _end_split(fits: list[FitResult], a: int, b: int, anchor: int, bottoms: Floa
             return copy
     if b - a + 1 > MAX_HELD_RUN:
         return None
-    options = [copy, None]
+    return _least_error([copy, None], fits, a, b, bottoms, tops, errors_of)
+
+
+def _least_error(options: list, fits: list[FitResult], a: int, b: int, bottoms: FloatArray,
+                 tops: FloatArray, errors_of: Callable) -> int | None:
+    """The split among ``options`` (None: the run as it is) whose largest staircase error
+    over the run and the layers either side is smallest."""
     asks = [job for m in options for job in _split_jobs(fits, a, b, m, bottoms, tops)]
     errors = np.array(errors_of(asks)).reshape(len(options), -1).max(axis=1)
     return options[int(np.argmin(errors))]

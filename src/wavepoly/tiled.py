@@ -161,17 +161,17 @@ def _slice_on(client, engine: dict, paths: list[Path], tolerance: float, step: f
                    for spec, first, stop in tasks]
         return _gathered(client, futures, progress, done, len(specs))
 
-    fits = held_over(fit_bands(specs, run), bottoms, bottoms + thick, lambda asks: client.gather(
-        [client.submit(_error_of, job, layers[k], pure=False) for k, job in asks]), tolerance)
+    def errors_of(asks):  # each (layer, job) on the worker that holds the layer's slab
+        return client.gather([client.submit(_error_of, job, layers[k], pure=False)
+                              for k, job in asks])
+
+    fits = held_over(fit_bands(specs, run), bottoms, bottoms + thick, errors_of, tolerance)
     timings["fitting"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     jobs = error_jobs(specs, [f.contours for f in fits], lambda k: None)
-    errors = client.gather([client.submit(_error_of, job, layers[k], pure=False)
-                            for k, job in enumerate(jobs)])
+    errors = errors_of(list(enumerate(jobs)))
     again = farther_jobs(jobs, errors, bottoms, bottoms + thick, [f.contours for f in fits])
-    for (k, _), err in zip(again, client.gather([client.submit(_error_of, job, layers[k],
-                                                               pure=False)
-                                                 for k, job in again])):
+    for (k, _), err in zip(again, errors_of(again)):
         errors[k] = err
     counts = np.array(client.gather(client.map(len, layers, pure=False)))
     timings["model_error"] = time.perf_counter() - t0
