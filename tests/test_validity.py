@@ -272,3 +272,85 @@ def test_a_tolerance_below_the_scatter_is_said_and_a_better_one_suggested():
     assert "try" in wavepoly.fit_summary(low)[-len(low.notes) - 1]
     _valid(pts, low)
     assert wavepoly.fit(pts, low.suggested_tolerance).suggested_tolerance is None
+
+
+def _ring_band(n, scatter, seed=4, radius=3.0):
+    rng = np.random.default_rng(seed)
+    t = rng.uniform(0, 2 * np.pi, n)
+    r = radius + rng.normal(scale=scatter, size=n)
+    return np.column_stack([r * np.cos(t), r * np.sin(t)])
+
+
+def test_below_the_scatter_the_curve_runs_through_the_middle_of_the_band():
+    """A ring scanned with scatter 0.06 at tolerance 0.05: a polygon that kept every point
+    within the tolerance zigzagged from side to side of the band. The curve now follows the
+    middle of the band, and the points beyond the tolerance are listed as outliers."""
+    pts = _ring_band(20000, 0.06)
+    res = wavepoly.fit(pts, 0.05)
+    _valid(pts, res)
+    assert [c.closed for c in res.contours] == [True]
+    radial = np.linalg.norm(res.contours[0].vertices, axis=1) - 3.0
+    assert np.abs(radial).max() < 0.03  # the middle of the band, not its sides
+    # a zigzag across the band is far longer than the ring
+    assert shapely.Polygon(res.contours[0].vertices).length < 1.01 * 2 * np.pi * 3.0
+    # the outliers are the noise beyond the tolerance: about the Gaussian share beyond 0.83 σ
+    assert 0.3 < len(res.outliers) / len(pts) < 0.5
+    assert any("middle of the noise" in n for n in res.notes)
+
+
+def test_a_noisy_band_sampled_coarser_than_the_tolerance_is_one_contour():
+    """1000 points round a ring with scatter 0.15, at tolerance 0.02 (as fish.txt): the point
+    spacing widens the radius 9-fold, so the ordering read them as a sparse clean sample, and
+    the ring fell apart into a dozen zigzag pieces. Read as a noisy band, it is one ring."""
+    pts = _ring_band(1000, 0.15)
+    res = wavepoly.fit(pts, 0.02)
+    _valid(pts, res)
+    assert [c.closed for c in res.contours] == [True]
+    radial = np.linalg.norm(res.contours[0].vertices, axis=1) - 3.0
+    assert np.abs(radial).max() < 0.15
+    assert any("noisy band" in n for n in res.notes)
+    assert res.suggested_tolerance is not None and res.suggested_tolerance >= 0.3
+
+
+def test_the_scatter_is_the_same_at_every_tolerance():
+    """The points' own scatter is measured over a few scatters, not over the radius: a wavy
+    ring (bumps 0.15 high, 1.26 apart) with scatter 0.02 measures 0.014-0.016 whether fitted at
+    0.05 or 0.15 (a little low: over so small a window the regression line leans towards the
+    points); over three radii, the spread that sizes the neighbourhoods, the bumps count too,
+    and it grows with the tolerance."""
+    rng = np.random.default_rng(5)
+    t = rng.uniform(0, 2 * np.pi, 30000)
+    r = 6 + 0.15 * np.sin(30 * t) + rng.normal(scale=0.02, size=len(t))
+    pts = np.column_stack([r * np.cos(t), r * np.sin(t)])
+    for tolerance in (0.05, 0.15):
+        ordering = wavepoly.order_points(pts, tolerance, tolerance=tolerance)
+        assert 0.012 <= ordering.scatter <= 0.022
+    assert ordering.noise > 2 * ordering.scatter
+
+
+def test_crab_keeps_its_legs(shared_data):
+    """crab_2percent_noise at 0.0422: its legs, over three radii, looked like a scatter of
+    0.042, but the points' own scatter is 0.011; the tolerance is above it, so the polygon
+    covers the legs and no point is dropped as noise."""
+    pts = wavepoly.read_points(shared_data / "curves2d" / "noisy_sets" / "crab_2percent_noise.txt")
+    res = wavepoly.fit(pts, 0.0422)
+    _valid(pts, res)
+    assert [c.closed for c in res.contours] == [True]
+    assert len(res.outliers) <= 0.03 * len(pts) and res.suggested_tolerance is None
+
+
+@pytest.mark.parametrize("name, closed", [("fish.txt", [True]), ("bot.txt", [False])])
+def test_fish_and_bottle_at_a_tolerance_below_their_scatter(shared_data, name, closed):
+    """fish.txt and bot.txt at 0.02, a tenth of their scatter: one outline each (the bottle's
+    neck is open), through the middle of the band, and a suggested tolerance that, once
+    used, draws no further suggestion (at 0.57 the bottle's mouth, 6 tolerances wide, is
+    joined as a gap in the scan)."""
+    pts = wavepoly.read_points(shared_data / "curves2d" / "noisy_sets" / name)
+    res = wavepoly.fit(pts, 0.02)
+    _valid(pts, res)
+    assert [c.closed for c in res.contours] == closed
+    assert res.n_vertices < 60
+    again = wavepoly.fit(pts, res.suggested_tolerance)
+    _valid(pts, again)
+    assert again.suggested_tolerance is None and len(again.contours) == 1
+    assert len(again.outliers) <= 0.03 * len(pts)

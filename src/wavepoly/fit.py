@@ -20,6 +20,7 @@ from .errors import ParameterError
 from .geometry import nest_contours, orient_by_depth, polyline_distance
 from .levels import decompose_contour
 from .ordering import SPACINGS_PER_RADIUS, order_points
+from .ordering.noise import NOISE_MARGIN, NOISE_NOTE
 from .reconstruction import reconstruct_contour
 from .types import (
     DEFAULT_RELATIVE_TOLERANCE,
@@ -29,6 +30,7 @@ from .types import (
     FloatArray,
     IntArray,
     OrderedContour,
+    Ordering,
     Pyramid,
     Reconstruction,
     within,
@@ -37,13 +39,6 @@ from .validate import check_relative_tolerance, check_tolerance, column_bounds, 
 from .validity import check_contours, obstacle_tree, split_at_crossings_of, without_repeats
 
 STAGES = ("ordering", "decomposition", "reconstruction", "verification")
-#: A tolerance below this many times the scatter about the curves leaves about 5 % of noisy
-#: points outside it (2 sigma): the fit then says so and suggests `NOISE_MARGIN` x the scatter.
-NOISE_NOTE = 2.0
-#: The suggested tolerance, in scatters: 3 sigma holds 99.7 % of Gaussian scatter. (The
-#: scatter is measured over a few radii, so it grows a little with the tolerance; the gap
-#: between the two factors keeps a suggested tolerance from drawing a new suggestion.)
-NOISE_MARGIN = 3.0
 #: A tolerance below the point spacing along the curves makes nearly every point a vertex:
 #: the fit says so and suggests this many spacings (as ``wavepoly info`` does).
 SPACING_MARGIN = 2.0
@@ -82,7 +77,10 @@ def fit(points: FloatArray, tolerance: float, *,
         return whole
     timings = dict.fromkeys(STAGES, 0.0)
     t0 = time.perf_counter()
-    ordering = order_points(pts, radius, seed=seed)
+    ordering = order_points(pts, radius, seed=seed, tolerance=tolerance)
+    beyond = np.empty(0, dtype=np.intp)
+    if tolerance < NOISE_NOTE * ordering.scatter:
+        ordering, beyond = beyond_the_tolerance(pts, ordering, tolerance)
     timings["ordering"] = time.perf_counter() - t0
     n = len(ordering.contours)
     contours: list[Contour | None] = [None] * n
@@ -116,11 +114,16 @@ def fit(points: FloatArray, tolerance: float, *,
     if not contours:
         notes.append("no contour found: every point is an outlier at this radius")
     suggested = None
-    if tolerance < NOISE_NOTE * ordering.noise:
-        suggested = float(f"{NOISE_MARGIN * ordering.noise:.2g}")
+    if tolerance < NOISE_NOTE * ordering.scatter:
+        # from the spread over a neighbourhood, the larger figure: over wider windows a band
+        # with flat sides (fish.txt) measures wider, and the smaller figure, once tried,
+        # would draw a new suggestion
+        suggested = float(f"{NOISE_MARGIN * max(ordering.noise, ordering.scatter):.2g}")
         notes.append(f"the tolerance {tolerance:.4g} is below {NOISE_NOTE:g} x the scatter "
-                     f"about the curves ({ordering.noise:.3g}): curves follow the noise and "
-                     f"noisy points fall outside; a tolerance of {suggested:g} gives clean curves")
+                     f"about the curves ({ordering.scatter:.3g}): the curves run through the "
+                     f"middle of the noise, and {len(beyond)} noisy points farther than the "
+                     f"tolerance from them are listed with the outliers; a tolerance of "
+                     f"{suggested:g} keeps nearly all of them")
     spacing = ordering.radius / SPACINGS_PER_RADIUS  # the radius was widened to 3 spacings
     if suggested is None and tolerance < spacing:
         suggested = float(f"{SPACING_MARGIN * spacing:.2g}")
@@ -130,6 +133,26 @@ def fit(points: FloatArray, tolerance: float, *,
     return FitResult(contours, tolerance, float(errors.max()), float(mean), ordering.outliers,
                      len(pts), parents, reports, timings, tuple(notes), validity=validity,
                      suggested_tolerance=suggested)
+
+
+def beyond_the_tolerance(points: FloatArray, ordering: Ordering, tolerance: float
+                         ) -> tuple[Ordering, IntArray]:
+    """``ordering`` without the members farther than ``tolerance`` from their ordered contour,
+    and those members.
+
+    Below the scatter, a polygon that kept every noisy point within the tolerance would
+    zigzag from side to side of the band. The ordered points are neighbourhood centroids,
+    the middle of the band: the polygon follows them, and the points that lie farther than the
+    tolerance from that middle are noise beyond the tolerance, listed with the outliers.
+    """
+    kept, beyond = [], [ordering.outliers]
+    for oc in ordering.contours:
+        far = polyline_distance(points[oc.members], oc.points, oc.closed) > tolerance
+        kept.append(replace(oc, members=oc.members[~far]))
+        beyond.append(oc.members[far])
+    outliers = np.sort(np.concatenate(beyond)).astype(np.intp)
+    return (replace(ordering, contours=kept, outliers=outliers),
+            outliers[~np.isin(outliers, ordering.outliers)])
 
 
 def _one_segment(points: FloatArray, tolerance: float) -> FitResult | None:

@@ -50,13 +50,18 @@ CLEAN_NOISE = 0.25
 #: points then belong to the contour, which the corner insertion and the tips carry out to
 #: them, instead of being outliers).
 SHORT_CHAIN_REACH = 4.0
+#: Below the scatter (`order_points`'s tolerance), members mark a cut corner only beyond this
+#: many times the noise: Gaussian noise leaves 0.3 % of the points beyond 3 sigma, far below
+#: `CORNER_SHARE`. (On fish.txt, a scatter as wide as the radius, the noise passed the radii
+#: test from both sides in turn, and the inserted points zigzagged the chain across the band.)
+CORNER_NOISE = 3.0
 #: Rounds of corner insertion: each halves the gap a rounded corner leaves.
 CORNER_ROUNDS = 4
 
 
 def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain],
-                absorbed: IntArray, radius: float, min_points: int
-                ) -> tuple[list[OrderedContour], IntArray]:
+                absorbed: IntArray, radius: float, min_points: int,
+                corner_gap: float | None = None) -> tuple[list[OrderedContour], IntArray]:
     """Contours from chains of at least ``min_points`` nodes, each with its member points.
 
     A point belongs to the contour of its nearest node among those contours (within
@@ -65,7 +70,8 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
     contour nearest them, as do, on a clean scan, the nodes of chains shorter than
     ``min_points`` near a contour (`SHORT_CHAIN_REACH`). A member farther than the radius
     from its contour's chain (once the cut corners are restored) is an outlier too, unless
-    the scan is clean (`CLEAN_NOISE`).
+    the scan is clean (`CLEAN_NOISE`). ``corner_gap``: how far off the chain a group of
+    members marks a corner it cut (default `CORNER_GAP` radii).
     """
     clean = clean_scan(nodes.noise, radius)
     short = [c.nodes for c in chains if len(c) < min_points]
@@ -91,6 +97,7 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
     outliers = [np.flatnonzero(chain_of_point < 0)]
     first_node = np.concatenate([[0], np.cumsum([len(c) for c in chains])])
     outlier_gap = (MEMBER_REACH if clean else 1.0) * radius
+    corner_gap = CORNER_GAP * radius if corner_gap is None else corner_gap
     for c, chain in enumerate(chains):
         seq, closed = chain.nodes, chain.closed
         members = order[bounds[c]:bounds[c + 1]]
@@ -103,10 +110,10 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
         own = (at >= 0) & (at < len(seq))  # not an absorbed node
         vertex = np.full(len(members), -1)
         vertex[own] = _vertex_index(nodes.xy[seq], xy)[at[own]]
-        sure = (vertex >= 0) & (dist[members] <= CORNER_GAP * radius)
+        sure = (vertex >= 0) & (dist[members] <= corner_gap)
         unsure = np.flatnonzero(~sure)
         xy, far = _cover_cut_corners(xy, pts[members[unsure]], closed, radius, vertex[sure],
-                                     outlier_gap)
+                                     outlier_gap, corner_gap=corner_gap)
         xy = untangle(xy, closed)
         inside = np.ones(len(members), dtype=bool)
         inside[unsure[far]] = False
@@ -135,14 +142,16 @@ def _vertex_index(chain: FloatArray, xy: FloatArray) -> IntArray:
 
 def _cover_cut_corners(xy: FloatArray, members: FloatArray, closed: bool, radius: float,
                        near_vertex: IntArray | None = None, outlier_gap: float | None = None,
-                       rounds: int = CORNER_ROUNDS) -> tuple[FloatArray, IntArray]:
+                       rounds: int = CORNER_ROUNDS, corner_gap: float | None = None
+                       ) -> tuple[FloatArray, IntArray]:
     """Insert member points where a group of them lies off the chain (a corner it cut).
 
-    Where `CORNER_GROUP` points tied to one chain segment are farther than `CORNER_GAP` radii
-    from the chain, and make up `CORNER_SHARE` of its points (`_cut_corner`), the farthest of
-    them is inserted into that segment; a few rounds of this put a point on a corner that
-    neighbourhood averaging rounded off. Lone noisy points never qualify, nor does a halo of
-    strays about a dense wall (a few points among the many of each stretch).
+    Where `CORNER_GROUP` points tied to one chain segment are farther than ``corner_gap``
+    (default `CORNER_GAP` radii) from the chain, and make up `CORNER_SHARE` of its points
+    (`_cut_corner`), the farthest of them is inserted into that segment; a few rounds of
+    this put a point on a corner that neighbourhood averaging rounded off. Lone noisy points
+    never qualify, nor does a halo of strays about a dense wall (a few points among the many
+    of each stretch).
     ``near_vertex`` holds, for further points of the chain not in ``members``, the vertex each
     lies within the gap of: they count half to each segment beside it.
     Returns the new chain and the members still farther than ``outlier_gap`` (default: the
@@ -150,7 +159,7 @@ def _cover_cut_corners(xy: FloatArray, members: FloatArray, closed: bool, radius
     """
     near_vertex = np.empty(0, dtype=np.intp) if near_vertex is None else near_vertex
     ring = closed and len(xy) >= 3
-    gap = CORNER_GAP * radius
+    gap = CORNER_GAP * radius if corner_gap is None else corner_gap
     for round_ in range(rounds + 1):
         seg, dist = nearest_segment(members, xy, ring)
         far = np.flatnonzero(dist > gap)

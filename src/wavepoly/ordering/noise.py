@@ -40,6 +40,21 @@ FILLED_BAND = 0.25
 #: again over windows twice as wide, up to this many times, where the scatter shows its bell
 #: shape (fish.txt: a scatter of 0.29 looked like walls at radius 0.18).
 WIDER_WINDOWS = 2
+#: The points' own scatter is measured over this many times the scatter found: a window that
+#: holds the bell of Gaussian noise out to 3 sigma across the curve and bends little along
+#: it (fish.txt measured 0.18, 0.33 and 0.54 over the windows of tolerances 0.12, 0.53 and
+#: 0.88, each suggesting the next; the crab's legs made 0.042 of a scatter of 0.011)...
+NOISE_SIGMAS = 3.0
+#: ... when that is narrower than this share of the last window, up to this many times.
+NARROWER = 0.8
+NARROWER_WINDOWS = 2
+#: A tolerance below this many times the scatter leaves about 5 % of noisy points outside it
+#: (2 sigma): a polygon that kept them all would zigzag through the noise, so the curves then
+#: run through the middle of the band (and the fit says so and suggests `NOISE_MARGIN` x).
+NOISE_NOTE = 2.0
+#: The suggested tolerance, in spreads over a neighbourhood: 3 sigma holds 99.7 % of
+#: Gaussian scatter.
+NOISE_MARGIN = 3.0
 #: Seeds at which the noise is measured: fewer (600) made the estimate wobble enough to raise
 #: false merge notes on noisy glyphs.
 NOISE_SEEDS = 2000
@@ -47,32 +62,36 @@ NOISE_SEEDS = 2000
 REGRESSION_PASSES = 3
 
 
-def noise_adaptive_nodes(pts: FloatArray, radius: float, sparse: bool = False
-                         ) -> tuple[Nodes, Atoms]:
+def noise_adaptive_nodes(pts: FloatArray, radius: float, sparse: bool = False,
+                         min_window: float = 0.0) -> tuple[Nodes, Atoms, float]:
     """Centroid and principal axes of the neighbourhood of each occupied cell of radius / 2,
-    and the atoms they were summed over.
+    the atoms they were summed over, and the points' own scatter (`noise_level`).
 
     The neighbourhoods have the fixed ``radius``, or on a noisy scan `NOISE_REACH` x the noise
     level (up to `MAX_REACH` x radius), so that they stay longer along the curve than across it.
     A ``sparse`` sample (its radius set by the point spacing, not the tolerance) has no
-    measurable noise: a window of a few points measures the curve's turns.
+    measurable noise: a window of a few points measures the curve's turns. ``min_window``:
+    the narrowest window the scatter is measured over.
     """
     atoms = cell_atoms(pts, radius)
     inverse, counts = cells(atoms.cell // (ATOM_DIVISIONS // 2), atoms.weight)  # radius / 2
     xy = np.column_stack([np.bincount(inverse, atoms.weight * atoms.xy[:, k])
                           for k in range(2)]) / counts[:, None]
-    noise = 0.0 if sparse else noise_level(xy, atoms, radius)
+    noise, scatter = (0.0, 0.0) if sparse else noise_level(xy, atoms, radius, NOISE_SEEDS,
+                                                           min_window)
     reach = min(max(radius, NOISE_REACH * noise), MAX_REACH * radius)
     if reach > radius:  # coarser atoms keep the wider neighbourhoods' sums cheap
         atoms = cell_atoms(pts, reach, min_per_cell=1.0)
     for _ in range(REGRESSION_PASSES):
         xy, tangent, ratio, spread = regression_step(xy, atoms, reach)
-    return Nodes(xy, tangent, ratio, spread, reach, noise), atoms
+    return Nodes(xy, tangent, ratio, spread, reach, noise), atoms, scatter
 
 
-def noise_level(seeds: FloatArray, atoms: Atoms, radius: float, sample: int = NOISE_SEEDS) -> float:
-    """Typical scatter of the points about their curve: the median perpendicular spread about
-    the regression lines at a sample of the seeds, over `NOISE_WINDOW` radii.
+def noise_level(seeds: FloatArray, atoms: Atoms, radius: float, sample: int = NOISE_SEEDS,
+                min_window: float = 0.0) -> tuple[float, float]:
+    """Typical spread of the points about their curve over a neighbourhood, and their own
+    scatter about it: the median perpendicular spread about the regression lines at a sample
+    of the seeds, over `NOISE_WINDOW` radii, then over a window of a few scatters.
 
     Only bell-shaped scatter is noise: where the perpendicular offsets have a kurtosis below
     `NOISE_KURTOSIS` (two walls side by side, each sharp, or a flat band) the spread is a shape
@@ -81,24 +100,46 @@ def noise_level(seeds: FloatArray, atoms: Atoms, radius: float, sample: int = NO
     measured again over wider windows (`WIDER_WINDOWS`). Where the window holds two walls
     side by side (`wavepoly.ordering.walls.two_walls_spread`), the noise is each wall's own
     scatter, not their spread about a line between them (a heavy tail, as noise has).
+
+    The first figure sizes the neighbourhoods. A window much wider than the scatter also
+    measures the curve's own bend (a crab's legs) and clutter beside it, so that figure grows
+    with the radius. The second is measured at the same seeds over `NOISE_SIGMAS` x the
+    scatter found (down to ``min_window``, a few point spacings): the points' own scatter,
+    about the same whatever the tolerance, against which a tolerance is judged.
     """
     pick = np.random.default_rng(0).choice(len(seeds), min(sample, len(seeds)), replace=False)
     window = NOISE_WINDOW * radius
     for _ in range(WIDER_WINDOWS + 1):
-        xy = seeds[pick]
-        for _ in range(2):
-            xy, tangent, _, spread = regression_step(xy, atoms, window)
-        offsets = perpendicular_offsets(xy, tangent, atoms, window)
-        kurtosis = perpendicular_kurtosis(xy, tangent, atoms, window, offsets)
-        # two walls in one window (rings 3 tolerances apart): the noise is each wall's own
-        # scatter, not the spread of both about a line between them
-        two, own = two_walls_spread(xy, tangent, atoms, window, radius, offsets)
-        spread = np.where(two, own, spread)
-        noise = float(np.median(np.where((kurtosis >= NOISE_KURTOSIS) | two, spread, 0.0)))
-        # a band that fills the window from side to side may be noise wider than the window
-        shape = kurtosis < NOISE_KURTOSIS
-        filled = shape & (spread > FILLED_BAND * window)
-        if noise > 0 or filled.sum() <= 0.5 * shape.sum():
-            return noise
+        spread, noisy, filled = _scatter_over(seeds[pick], atoms, window, radius)
+        noise = float(np.median(np.where(noisy, spread, 0.0)))
+        if noise > 0 or not filled:
+            break
         window *= 2
-    return noise
+    scatter = noise
+    for _ in range(NARROWER_WINDOWS):  # the seeds found noisy, over narrower windows
+        narrower = max(NOISE_SIGMAS * scatter, min_window)
+        if scatter == 0 or narrower > NARROWER * window:
+            break
+        window = narrower
+        spread = _scatter_over(seeds[pick], atoms, window, radius)[0]
+        scatter = float(np.median(np.where(noisy, spread, 0.0)))
+    return noise, scatter
+
+
+def _scatter_over(seeds: FloatArray, atoms: Atoms, window: float, radius: float
+                  ) -> tuple[FloatArray, np.ndarray, bool]:
+    """`noise_level` over one window: each seed's spread (each wall's own where there are
+    two), which seeds' scatter is noise (bell-shaped, or two walls), and whether most other
+    seeds' bands fill the window."""
+    xy = seeds
+    for _ in range(2):
+        xy, tangent, _, spread = regression_step(xy, atoms, window)
+    offsets = perpendicular_offsets(xy, tangent, atoms, window)
+    kurtosis = perpendicular_kurtosis(xy, tangent, atoms, window, offsets)
+    # two walls in one window (rings 3 tolerances apart): the noise is each wall's own
+    # scatter, not the spread of both about a line between them
+    two, own = two_walls_spread(xy, tangent, atoms, window, radius, offsets)
+    shape = kurtosis < NOISE_KURTOSIS
+    # a band that fills the window from side to side may be noise wider than the window
+    filled = shape & (spread > FILLED_BAND * window)
+    return np.where(two, own, spread), ~shape | two, bool(filled.sum() > 0.5 * shape.sum())

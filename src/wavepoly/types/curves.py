@@ -60,7 +60,10 @@ class Ordering:
     radius: the neighbourhood radius actually used (may be wider than asked, see `notes`).
     merged_walls: (m, 2) positions where two nearby walls appear merged into one contour.
     notes: human-readable remarks (radius widened, walls merged, ...).
-    noise: the typical scatter of the points about their curves (0 for clean samples).
+    noise: the typical spread of the points about their curves over a neighbourhood (0 for
+        clean samples); it sizes the neighbourhoods.
+    scatter: the points' own scatter about their curves, measured over a few scatters (at
+        most ``noise``): the scale a tolerance is judged against.
     """
 
     contours: list[OrderedContour]
@@ -69,6 +72,7 @@ class Ordering:
     merged_walls: FloatArray = field(default_factory=lambda: np.empty((0, 2)))
     notes: tuple[str, ...] = ()
     noise: float = 0.0
+    scatter: float = 0.0
 
 
 @dataclass(frozen=True, repr=False)
