@@ -149,7 +149,11 @@ def run() -> str:
             "*vs covering min-#*: vertices over the fewest ordered points that keep every "
             "input point within ε, with no validity constraint; *infeasible* where no subset "
             "of the ordered points can (a tolerance far below the point spacing); the "
-            "Freiburg map is too big for that baseline.\n\n"
+            "Freiburg map is too big for that baseline. *outliers*: where the tolerance is "
+            "below twice the points' own scatter (fish.txt and bot.txt at 0.02, a tenth of "
+            "their scatter), they include the points farther than the tolerance from the "
+            "curve through the middle of the band, which a polygon could only reach by "
+            "zigzagging across it.\n\n"
             + table(["case", "points", "ε", "closed/open", "right", "invalid", "crossing",
                      "outliers", "vertices", "vs covering min-#", "seconds"], rows)
             + "\n\n" + glyph_sweep())
