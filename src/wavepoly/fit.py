@@ -22,6 +22,7 @@ from .levels import decompose_contour
 from .ordering import SPACINGS_PER_RADIUS, order_points
 from .ordering.noise import NOISE_MARGIN, NOISE_NOTE
 from .reconstruction import reconstruct_contour
+from .stubs import STUB_LENGTH, redundant_stubs
 from .types import (
     DEFAULT_RELATIVE_TOLERANCE,
     Contour,
@@ -101,9 +102,12 @@ def fit(points: FloatArray, tolerance: float, *,
     if not validity.valid:  # the fallback: junctions where polygons still cross
         contours, reports = _split_crossings(contours, reports)
         validity = check_contours(contours)
+    n_before = len(contours)
+    contours, reports, stub_error = _without_stubs(pts, ordering.outliers, contours, reports,
+                                                   tolerance)
     parents = nest_contours(contours)
     contours = orient_by_depth(contours, parents)
-    errors = np.concatenate([[c.max_error] for c in contours]) if contours else np.zeros(1)
+    errors = np.concatenate([[c.max_error] for c in contours] + [[stub_error]])
     counted = [k == (r.first_piece if r.first_piece is not None else k)
                for k, r in enumerate(reports)]  # the pieces of a split contour share its points
     n_members = sum(r.input_points for r, once in zip(reports, counted) if once)
@@ -111,6 +115,9 @@ def fit(points: FloatArray, tolerance: float, *,
                 if once) / n_members if n_members else 0.0)
     timings["verification"] += time.perf_counter() - t0
     notes = list(ordering.notes)
+    if len(contours) < n_before:
+        notes.append(f"{n_before - len(contours)} open stub(s) shorter than {STUB_LENGTH:g} x "
+                     "the tolerance left out: other contours hold their points within it")
     if not contours:
         notes.append("no contour found: every point is an outlier at this radius")
     suggested = None
@@ -191,6 +198,28 @@ def _split_crossings(contours: list[Contour], reports: list[ContourReport]
             out_r.append(r if k not in pieces else replace(
                 r, closed=False, final_vertices=len(xy), first_piece=first))
     return out_c, out_r
+
+
+def _without_stubs(points: FloatArray, outliers: IntArray, contours: list[Contour],
+                   reports: list[ContourReport], tolerance: float
+                   ) -> tuple[list[Contour], list[ContourReport], float]:
+    """The result without its redundant stubs (`wavepoly.stubs`), and the largest distance
+    of the points near them to what stays (for the result's error)."""
+    gone, farthest = redundant_stubs(points, outliers, contours, tolerance)
+    if not gone.any():
+        return contours, reports, 0.0
+    new_index = np.cumsum(~gone) - 1
+    first_left: dict[int, int] = {}  # a split contour's first piece that stays
+    for k, r in enumerate(reports):
+        if not gone[k] and r.first_piece is not None:
+            first_left.setdefault(r.first_piece, int(new_index[k]))
+    kept_c, kept_r = [], []
+    for k, (c, r) in enumerate(zip(contours, reports)):
+        if not gone[k]:
+            kept_c.append(c)
+            kept_r.append(r if r.first_piece is None
+                          else replace(r, first_piece=first_left[r.first_piece]))
+    return kept_c, kept_r, farthest
 
 
 def _neighbours(points: FloatArray, ordered: list[OrderedContour], tolerance: float
