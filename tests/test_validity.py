@@ -354,3 +354,15 @@ def test_fish_and_bottle_at_a_tolerance_below_their_scatter(shared_data, name, c
     _valid(pts, again)
     assert again.suggested_tolerance is None and len(again.contours) == 1
     assert len(again.outliers) <= 0.03 * len(pts)
+
+
+def test_crocodile_at_three_spacings_is_a_clean_curve(shared_data):
+    """The crocodile crust set at a tolerance of 3 point spacings: read as noise, its turns
+    measure a scatter of 9.3 against a tolerance of 10.6, and a curve through the middle left
+    57 % of its points beyond it. Read as a clean sample it is one outline that falls apart
+    into no fragments, so that reading stands: no outlier."""
+    pts = wavepoly.as_planar(wavepoly.read_points(
+        shared_data / "curves2d" / "hnn_crust" / "crocodile-conf.p2d"))
+    res = wavepoly.fit(pts, 3 * wavepoly.curve_spacing(pts))
+    _valid(pts, res)
+    assert [c.closed for c in res.contours] == [True] and len(res.outliers) == 0
