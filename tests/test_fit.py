@@ -242,3 +242,21 @@ def test_scatter_wider_than_the_noise_window_is_seen():
     assert [c.closed for c in res.contours] == [True]
     assert res.suggested_tolerance is not None and res.suggested_tolerance > 0.5
     assert res.validity.valid
+
+
+def test_a_wide_halo_draws_a_suggestion_that_holds():
+    """A ring whose points scatter 0.01 about it, with a fifth of them in a halo of 0.06 (a
+    laser map's walls seen from several poses): at 0.04 the tolerance is above twice the
+    points' own scatter, so no point is dropped as noise, but the spread over a neighbourhood
+    draws a suggestion; fitted at the suggestion, no further one."""
+    import wavepoly
+
+    rng = np.random.default_rng(8)
+    t = rng.uniform(0, 2 * np.pi, 40000)
+    halo = rng.random(40000) < 0.2
+    r = 5 + rng.normal(scale=np.where(halo, 0.06, 0.01))
+    pts = np.column_stack([r * np.cos(t), r * np.sin(t)])
+    res = wavepoly.fit(pts, 0.04)
+    assert not any("middle of the noise" in n for n in res.notes)
+    assert res.suggested_tolerance is not None and res.suggested_tolerance > 0.04
+    assert wavepoly.fit(pts, res.suggested_tolerance).suggested_tolerance is None

@@ -20,7 +20,7 @@ from .errors import ParameterError
 from .geometry import nest_contours, orient_by_depth, polyline_distance
 from .levels import decompose_contour
 from .ordering import SPACINGS_PER_RADIUS, order_points
-from .ordering.noise import NOISE_MARGIN, NOISE_NOTE
+from .ordering.noise import NOISE_MARGIN, NOISE_NOTE, neighbourhood_spread
 from .reconstruction import reconstruct_contour
 from .stubs import STUB_LENGTH, redundant_stubs
 from .types import (
@@ -120,26 +120,46 @@ def fit(points: FloatArray, tolerance: float, *,
                      "the tolerance left out: other contours hold their points within it")
     if not contours:
         notes.append("no contour found: every point is an outlier at this radius")
-    suggested = None
-    if tolerance < NOISE_NOTE * ordering.scatter:
-        # from the spread over a neighbourhood, the larger figure: over wider windows a band
-        # with flat sides (fish.txt) measures wider, and the smaller figure, once tried,
-        # would draw a new suggestion
-        suggested = float(f"{NOISE_MARGIN * max(ordering.noise, ordering.scatter):.2g}")
-        notes.append(f"the tolerance {tolerance:.4g} is below {NOISE_NOTE:g} x the scatter "
-                     f"about the curves ({ordering.scatter:.3g}): the curves run through the "
-                     f"middle of the noise, and {len(beyond)} noisy points farther than the "
-                     f"tolerance from them are listed with the outliers; a tolerance of "
-                     f"{suggested:g} keeps nearly all of them")
-    spacing = ordering.radius / SPACINGS_PER_RADIUS  # the radius was widened to 3 spacings
-    if suggested is None and tolerance < spacing:
-        suggested = float(f"{SPACING_MARGIN * spacing:.2g}")
-        notes.append(f"the tolerance {tolerance:.4g} is below the point spacing along the "
-                     f"curves ({spacing:.3g}): the polygons pass through nearly every point; a "
-                     f"tolerance of {suggested:g} simplifies them")
+    suggested, tolerance_notes = _tolerance_notes(pts, tolerance, ordering, len(beyond))
+    notes += tolerance_notes
     return FitResult(contours, tolerance, float(errors.max()), float(mean), ordering.outliers,
                      len(pts), parents, reports, timings, tuple(notes), validity=validity,
                      suggested_tolerance=suggested)
+
+
+def _tolerance_notes(points: FloatArray, tolerance: float, ordering: Ordering, beyond: int
+                     ) -> tuple[float | None, list[str]]:
+    """A suggested tolerance, and why, when this one is below the scan's scatter, below the
+    spread over a neighbourhood (where the suggestion holds that spread measured at its own
+    radius: the spread over a window much wider than the noise grows with the window on a
+    shape a few windows across, and a suggestion would draw the next), or below its point
+    spacing."""
+    # suggested from the spread over a neighbourhood, the larger figure: over wider windows a
+    # band with flat sides (fish.txt) measures wider, and the smaller figure, once tried,
+    # would draw a new suggestion
+    spread = max(ordering.noise, ordering.scatter)
+    suggested = float(f"{NOISE_MARGIN * spread:.2g}")
+    if tolerance < NOISE_NOTE * ordering.scatter:
+        return suggested, [
+            f"the tolerance {tolerance:.4g} is below {NOISE_NOTE:g} x the scatter about the "
+            f"curves ({ordering.scatter:.3g}): the curves run through the middle of the noise, "
+            f"and {beyond} noisy points farther than the tolerance from them are listed with "
+            f"the outliers; a tolerance of {suggested:g} keeps nearly all of them"]
+    if (tolerance < NOISE_NOTE * spread  # a thin core with a wide halo (a laser map's walls)
+            and suggested >= NOISE_NOTE * neighbourhood_spread(points, suggested)):
+        return suggested, [
+            f"the tolerance {tolerance:.4g} is below {NOISE_NOTE:g} x the spread of the points "
+            f"about the curves over a neighbourhood ({spread:.3g}): where they spread wider, "
+            f"the curves follow the noise and noisy points fall outside; a tolerance of "
+            f"{suggested:g} gives clean curves"]
+    spacing = ordering.radius / SPACINGS_PER_RADIUS  # the radius was widened to 3 spacings
+    if tolerance < spacing:
+        suggested = float(f"{SPACING_MARGIN * spacing:.2g}")
+        return suggested, [
+            f"the tolerance {tolerance:.4g} is below the point spacing along the curves "
+            f"({spacing:.3g}): the polygons pass through nearly every point; a tolerance of "
+            f"{suggested:g} simplifies them"]
+    return None, []
 
 
 def beyond_the_tolerance(points: FloatArray, ordering: Ordering, tolerance: float

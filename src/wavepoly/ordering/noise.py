@@ -74,9 +74,7 @@ def noise_adaptive_nodes(pts: FloatArray, radius: float, sparse: bool = False,
     the narrowest window the scatter is measured over.
     """
     atoms = cell_atoms(pts, radius)
-    inverse, counts = cells(atoms.cell // (ATOM_DIVISIONS // 2), atoms.weight)  # radius / 2
-    xy = np.column_stack([np.bincount(inverse, atoms.weight * atoms.xy[:, k])
-                          for k in range(2)]) / counts[:, None]
+    xy = _cell_centroids(atoms)
     noise, scatter = (0.0, 0.0) if sparse else noise_level(xy, atoms, radius, NOISE_SEEDS,
                                                            min_window)
     reach = min(max(radius, NOISE_REACH * noise), MAX_REACH * radius)
@@ -85,6 +83,20 @@ def noise_adaptive_nodes(pts: FloatArray, radius: float, sparse: bool = False,
     for _ in range(REGRESSION_PASSES):
         xy, tangent, ratio, spread = regression_step(xy, atoms, reach)
     return Nodes(xy, tangent, ratio, spread, reach, noise), atoms, scatter
+
+
+def neighbourhood_spread(pts: FloatArray, radius: float) -> float:
+    """The spread of the points about their curves over neighbourhoods of ``radius`` (the
+    first figure of `noise_level`), as the ordering would measure it at that radius."""
+    atoms = cell_atoms(pts, radius)
+    return noise_level(_cell_centroids(atoms), atoms, radius)[0]
+
+
+def _cell_centroids(atoms: Atoms) -> FloatArray:
+    """Centroid of the atoms in each occupied cell of radius / 2: the neighbourhoods' seeds."""
+    inverse, counts = cells(atoms.cell // (ATOM_DIVISIONS // 2), atoms.weight)
+    return np.column_stack([np.bincount(inverse, atoms.weight * atoms.xy[:, k])
+                            for k in range(2)]) / counts[:, None]
 
 
 def noise_level(seeds: FloatArray, atoms: Atoms, radius: float, sample: int = NOISE_SEEDS,
