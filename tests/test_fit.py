@@ -244,11 +244,14 @@ def test_scatter_wider_than_the_noise_window_is_seen():
     assert res.validity.valid
 
 
-def test_a_wide_halo_draws_a_suggestion_that_holds():
+def test_in_a_wide_halo_the_curve_runs_through_the_core():
     """A ring whose points scatter 0.01 about it, with a fifth of them in a halo of 0.06 (a
-    laser map's walls seen from several poses): at 0.04 the tolerance is above twice the
-    points' own scatter, so no point is dropped as noise, but the spread over a neighbourhood
-    draws a suggestion; fitted at the suggestion, no further one."""
+    laser map's walls seen from several poses), at 0.04: the tolerance is above twice the
+    core's scatter but below twice the spread, and a polygon that kept the halo zigzagged out
+    to it. The curve runs through the core, the halo beyond the tolerance is listed, and
+    the suggested tolerance, once used, draws no further suggestion."""
+    import shapely
+
     import wavepoly
 
     rng = np.random.default_rng(8)
@@ -257,6 +260,11 @@ def test_a_wide_halo_draws_a_suggestion_that_holds():
     r = 5 + rng.normal(scale=np.where(halo, 0.06, 0.01))
     pts = np.column_stack([r * np.cos(t), r * np.sin(t)])
     res = wavepoly.fit(pts, 0.04)
-    assert not any("middle of the noise" in n for n in res.notes)
+    assert any("halo" in n for n in res.notes)
+    assert [c.closed for c in res.contours] == [True] and res.validity.valid
+    radial = np.linalg.norm(res.contours[0].vertices, axis=1) - 5.0
+    assert np.abs(radial).max() < 0.04  # within the tolerance of the core, not out in the halo
+    assert shapely.Polygon(res.contours[0].vertices).length < 1.01 * 2 * np.pi * 5
+    assert 0.05 < len(res.outliers) / len(pts) < 0.15  # the halo beyond 0.04: about 10 %
     assert res.suggested_tolerance is not None and res.suggested_tolerance > 0.04
     assert wavepoly.fit(pts, res.suggested_tolerance).suggested_tolerance is None

@@ -80,7 +80,7 @@ def fit(points: FloatArray, tolerance: float, *,
     t0 = time.perf_counter()
     ordering = order_points(pts, radius, seed=seed, tolerance=tolerance)
     beyond = np.empty(0, dtype=np.intp)
-    if tolerance < NOISE_NOTE * ordering.scatter:
+    if ordering.through_the_middle:
         ordering, beyond = beyond_the_tolerance(pts, ordering, tolerance)
     timings["ordering"] = time.perf_counter() - t0
     n = len(ordering.contours)
@@ -145,7 +145,14 @@ def _tolerance_notes(points: FloatArray, tolerance: float, ordering: Ordering, b
             f"curves ({ordering.scatter:.3g}): the curves run through the middle of the noise, "
             f"and {beyond} noisy points farther than the tolerance from them are listed with "
             f"the outliers; a tolerance of {suggested:g} keeps nearly all of them"]
-    if (tolerance < NOISE_NOTE * spread  # a thin core with a wide halo (a laser map's walls)
+    if tolerance < NOISE_NOTE * spread and ordering.through_the_middle:  # a halo
+        return suggested, [
+            f"the tolerance {tolerance:.4g} is below {NOISE_NOTE:g} x the spread of the points "
+            f"about the curves over a neighbourhood ({spread:.3g}), a halo about a core of "
+            f"scatter {ordering.scatter:.3g}: the curves run through the middle, and {beyond} "
+            f"points of the halo farther than the tolerance from them are listed with the "
+            f"outliers; a tolerance of {suggested:g} keeps nearly all of them"]
+    if (tolerance < NOISE_NOTE * spread  # the spread of the curves' own turns (a crab's legs)
             and suggested >= NOISE_NOTE * neighbourhood_spread(points, suggested)):
         return suggested, [
             f"the tolerance {tolerance:.4g} is below {NOISE_NOTE:g} x the spread of the points "

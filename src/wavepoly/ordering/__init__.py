@@ -53,7 +53,7 @@ from .marching import (
     wide_nodes,
 )
 from .neighbourhoods import Nodes, perpendicular_kurtosis
-from .noise import NOISE_NOTE, noise_adaptive_nodes
+from .noise import NOISE_NOTE, noise_adaptive_nodes, runs_through_the_middle
 from .spacing import curve_spacing, median_spacing, spacing_bound
 from .walls import split_two_walls
 
@@ -173,8 +173,9 @@ def _read(r: _Reading, sparse: bool) -> Ordering:
     notes = list(r.notes)
     rng = np.random.default_rng(r.seed)
     nodes, atoms, scatter = noise_adaptive_nodes(pts, radius, sparse, r.min_window)
-    below = r.tolerance is not None and r.tolerance < NOISE_NOTE * scatter
-    corner_gap = max(CORNER_GAP * radius, CORNER_NOISE * nodes.noise) if below else None
+    middle = r.tolerance is not None and runs_through_the_middle(pts, r.tolerance,
+                                                                 nodes.noise, scatter)
+    corner_gap = max(CORNER_GAP * radius, CORNER_NOISE * nodes.noise) if middle else None
     if nodes.reach > radius:
         notes.append(f"noisy scan (the points spread {nodes.noise:.3g} about the curves over a "
                      f"neighbourhood): neighbourhoods widened from {radius:.4g} to "
@@ -202,4 +203,5 @@ def _read(r: _Reading, sparse: bool) -> Ordering:
     if clean_scan(nodes.noise, radius):  # on a noisy scan such groups are clutter
         islands, outliers = island_contours(outliers, pts, radius, given)
         contours += islands
-    return Ordering(contours, outliers, radius, merged, tuple(notes), nodes.noise, scatter)
+    return Ordering(contours, outliers, radius, merged, tuple(notes), nodes.noise, scatter,
+                    middle)

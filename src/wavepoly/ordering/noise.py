@@ -55,6 +55,10 @@ NOISE_NOTE = 2.0
 #: The suggested tolerance, in spreads over a neighbourhood: 3 sigma holds 99.7 % of
 #: Gaussian scatter.
 NOISE_MARGIN = 3.0
+#: A spread over a neighbourhood at most this many times the points' own scatter is a halo
+#: about a thin core (the Intel map's walls, seen from many poses: 1.5), not the curve's own
+#: shape, which makes it wider (the crab's legs: 3.2)...
+HALO_SPREAD = 2.5
 #: Seeds at which the noise is measured: fewer (600) made the estimate wobble enough to raise
 #: false merge notes on noisy glyphs.
 NOISE_SEEDS = 2000
@@ -83,6 +87,19 @@ def noise_adaptive_nodes(pts: FloatArray, radius: float, sparse: bool = False,
     for _ in range(REGRESSION_PASSES):
         xy, tangent, ratio, spread = regression_step(xy, atoms, reach)
     return Nodes(xy, tangent, ratio, spread, reach, noise), atoms, scatter
+
+
+def runs_through_the_middle(points: FloatArray, tolerance: float, noise: float,
+                            scatter: float) -> bool:
+    """Whether, at this tolerance, the curves run through the middle of the noise: the
+    tolerance is below `NOISE_NOTE` x the points' own scatter; or below that many times the
+    spread over a neighbourhood, where that spread is a halo (`HALO_SPREAD`) and the tolerance
+    it suggests holds it measured at its own radius."""
+    if tolerance < NOISE_NOTE * scatter:
+        return True
+    suggested = NOISE_MARGIN * noise
+    return bool(tolerance < NOISE_NOTE * noise and noise <= HALO_SPREAD * scatter
+                and suggested >= NOISE_NOTE * neighbourhood_spread(points, suggested))
 
 
 def neighbourhood_spread(pts: FloatArray, radius: float) -> float:

@@ -64,6 +64,8 @@ class Ordering:
         clean samples); it sizes the neighbourhoods.
     scatter: the points' own scatter about their curves, measured over a few scatters (at
         most ``noise``): the scale a tolerance is judged against.
+    through_the_middle: whether the tolerance asked for is below the noise, so that the
+        contours run through the middle of it (`wavepoly.ordering.noise.runs_through_the_middle`).
     """
 
     contours: list[OrderedContour]
@@ -73,6 +75,7 @@ class Ordering:
     notes: tuple[str, ...] = ()
     noise: float = 0.0
     scatter: float = 0.0
+    through_the_middle: bool = False
 
 
 @dataclass(frozen=True, repr=False)
