@@ -58,4 +58,6 @@ def test_the_fit_drops_stubs_and_keeps_every_point_within_the_tolerance(shared_d
     assert distance_to_output(pts[inliers], res).max() <= 0.1 * (1 + 1e-9)
     assert res.max_error <= 0.1 and res.validity.valid
     assert sum(not c.closed for c in res.contours) < 400
+    assert (res.validity.n_closed, res.validity.n_open) == (
+        sum(c.closed for c in res.contours), sum(not c.closed for c in res.contours))
     assert len(res.outliers) <= 0.01 * len(pts)

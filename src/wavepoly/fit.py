@@ -105,6 +105,8 @@ def fit(points: FloatArray, tolerance: float, *,
     n_before = len(contours)
     contours, reports, stub_error = _without_stubs(pts, ordering.outliers, contours, reports,
                                                    tolerance)
+    if len(contours) < n_before:  # the counts of closed and open contours change
+        validity = check_contours(contours)
     parents = nest_contours(contours)
     contours = orient_by_depth(contours, parents)
     errors = np.concatenate([[c.max_error] for c in contours] + [[stub_error]])
