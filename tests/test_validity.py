@@ -331,14 +331,14 @@ def test_the_scatter_is_the_same_at_every_tolerance():
 def test_crab_keeps_its_legs(shared_data):
     """crab_2percent_noise at 0.0422: its legs, over three radii, looked like a scatter of
     0.042, but the points' own scatter is 0.013; the tolerance is above twice it, so the
-    polygon covers the legs and no point is dropped as noise. (The spread over a neighbourhood
-    still draws a suggestion of 0.13, as before.)"""
+    polygon covers the legs and no point is dropped as noise. The spread over a neighbourhood
+    is 3.2 x that scatter, the legs' turns and not a halo: it drew a suggestion of 0.13, which
+    would round the legs off; no longer."""
     pts = wavepoly.read_points(shared_data / "curves2d" / "noisy_sets" / "crab_2percent_noise.txt")
     res = wavepoly.fit(pts, 0.0422)
     _valid(pts, res)
     assert [c.closed for c in res.contours] == [True]
-    assert len(res.outliers) <= 0.03 * len(pts)
-    assert not any("middle of the noise" in n for n in res.notes)
+    assert len(res.outliers) <= 0.03 * len(pts) and res.suggested_tolerance is None
 
 
 @pytest.mark.parametrize("name, closed", [("fish.txt", [True]), ("bot.txt", [False])])

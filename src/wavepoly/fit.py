@@ -20,7 +20,7 @@ from .errors import ParameterError
 from .geometry import nest_contours, orient_by_depth, polyline_distance
 from .levels import decompose_contour
 from .ordering import SPACINGS_PER_RADIUS, order_points
-from .ordering.noise import NOISE_MARGIN, NOISE_NOTE, neighbourhood_spread
+from .ordering.noise import NOISE_MARGIN, NOISE_NOTE
 from .reconstruction import reconstruct_contour
 from .stubs import STUB_LENGTH, redundant_stubs
 from .types import (
@@ -122,20 +122,19 @@ def fit(points: FloatArray, tolerance: float, *,
                      "the tolerance left out: other contours hold their points within it")
     if not contours:
         notes.append("no contour found: every point is an outlier at this radius")
-    suggested, tolerance_notes = _tolerance_notes(pts, tolerance, ordering, len(beyond))
+    suggested, tolerance_notes = _tolerance_notes(tolerance, ordering, len(beyond))
     notes += tolerance_notes
     return FitResult(contours, tolerance, float(errors.max()), float(mean), ordering.outliers,
                      len(pts), parents, reports, timings, tuple(notes), validity=validity,
                      suggested_tolerance=suggested)
 
 
-def _tolerance_notes(points: FloatArray, tolerance: float, ordering: Ordering, beyond: int
+def _tolerance_notes(tolerance: float, ordering: Ordering, beyond: int
                      ) -> tuple[float | None, list[str]]:
-    """A suggested tolerance, and why, when this one is below the scan's scatter, below the
-    spread over a neighbourhood (where the suggestion holds that spread measured at its own
-    radius: the spread over a window much wider than the noise grows with the window on a
-    shape a few windows across, and a suggestion would draw the next), or below its point
-    spacing."""
+    """A suggested tolerance, and why, when this one is below the scan's scatter or the
+    spread of a halo about it (`wavepoly.ordering.noise.runs_through_the_middle`), or below
+    its point spacing. A spread over a neighbourhood that is the curves' own turns (a crab's
+    legs) draws no note: the curves follow those turns."""
     # suggested from the spread over a neighbourhood, the larger figure: over wider windows a
     # band with flat sides (fish.txt) measures wider, and the smaller figure, once tried,
     # would draw a new suggestion
@@ -154,13 +153,6 @@ def _tolerance_notes(points: FloatArray, tolerance: float, ordering: Ordering, b
             f"scatter {ordering.scatter:.3g}: the curves run through the middle, and {beyond} "
             f"points of the halo farther than the tolerance from them are listed with the "
             f"outliers; a tolerance of {suggested:g} keeps nearly all of them"]
-    if (tolerance < NOISE_NOTE * spread  # the spread of the curves' own turns (a crab's legs)
-            and suggested >= NOISE_NOTE * neighbourhood_spread(points, suggested)):
-        return suggested, [
-            f"the tolerance {tolerance:.4g} is below {NOISE_NOTE:g} x the spread of the points "
-            f"about the curves over a neighbourhood ({spread:.3g}): where they spread wider, "
-            f"the curves follow the noise and noisy points fall outside; a tolerance of "
-            f"{suggested:g} gives clean curves"]
     spacing = ordering.radius / SPACINGS_PER_RADIUS  # the radius was widened to 3 spacings
     if tolerance < spacing:
         suggested = float(f"{SPACING_MARGIN * spacing:.2g}")
