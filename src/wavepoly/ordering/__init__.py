@@ -53,7 +53,7 @@ from .marching import (
     wide_nodes,
 )
 from .neighbourhoods import Nodes, perpendicular_kurtosis
-from .noise import NOISE_NOTE, noise_adaptive_nodes, runs_through_the_middle
+from .noise import noise_adaptive_nodes, runs_through_the_middle
 from .spacing import curve_spacing, median_spacing, spacing_bound
 from .walls import split_two_walls
 
@@ -77,11 +77,6 @@ FRAGMENTS = 3
 #: ... and it keeps all but this share of the points (a crust set that only noise can join
 #: into one contour loses more: ventilator, 8 contours against 1 with 58 % outliers).
 NOISE_READ_LOSS = 0.25
-#: A sample whose radius spans at most this many point spacings is read both ways too, where
-#: read as noise its tolerance would fall below the scatter: a crust set at a tolerance of 3
-#: spacings (crocodile at 10.6: its turns measured as a scatter of 9.3, and 57 % of its points
-#: beyond the tolerance of a curve through the middle).
-FEW_SPACINGS = 6.0
 
 __all__ = ["curve_spacing", "median_spacing", "order_points"]
 
@@ -128,13 +123,10 @@ def order_points(points: FloatArray, radius: float, *, seed: int = 0, min_points
     read = _Reading(pts, radius, given, seed, min_points, tuple(notes),
                     SPACINGS_PER_RADIUS * spacing, tolerance)
     ordering = read(sparse)
-    if sparse:  # a crust test set, or a noisy band sampled more densely than the tolerance?
-        clean, noisy = ordering, read(False)
-    elif (tolerance is not None and tolerance < NOISE_NOTE * ordering.scatter
-          and radius <= FEW_SPACINGS * spacing):  # the same question, nearly as sparse
-        clean, noisy = read(True), ordering
-    else:
+    if not sparse:
         return ordering
+    # a crust test set, or a noisy band sampled more densely than the tolerance?
+    clean, noisy = ordering, read(False)
     if not _better_read_as_noise(clean, noisy, len(pts)):
         return clean
     note = (f"read as a noisy band, not as a sparse sample: as a sparse one the points fall "
