@@ -93,8 +93,10 @@ def order_points(points: FloatArray, radius: float, *, seed: int = 0, min_points
     seed : seed of the random choices (which neighbourhoods are kept when thinning).
     min_points : contours with fewer ordered points than this are treated as outliers.
     tolerance : the shape tolerance the contours will be fitted to, if any. Where it is below
-        `NOISE_NOTE` x the points' scatter, a group of points off the chain marks a corner only
-        beyond `CORNER_NOISE` x the noise, so that the chain stays in the middle of the band.
+        the noise (`wavepoly.ordering.noise.runs_through_the_middle`: twice the points' own
+        scatter, or twice the spread of a halo about a thin core), a group of points off the
+        chain marks a corner only beyond `CORNER_NOISE` x the noise, so that the chain stays in
+        the middle of the band, and ``Ordering.through_the_middle`` says so.
 
     Returns
     -------
