@@ -268,3 +268,19 @@ def test_in_a_wide_halo_the_curve_runs_through_the_core():
     assert 0.05 < len(res.outliers) / len(pts) < 0.15  # the halo beyond 0.04: about 10 %
     assert res.suggested_tolerance is not None and res.suggested_tolerance > 0.04
     assert wavepoly.fit(pts, res.suggested_tolerance).suggested_tolerance is None
+
+
+def test_below_the_scatter_a_contour_left_without_points_goes():
+    """An ordered contour whose points all lie farther than the tolerance from it (a band
+    twice as wide as the tolerance on either side) is not drawn from nothing: its points are
+    outliers and the contour goes."""
+    from wavepoly.fit import beyond_the_tolerance
+    from wavepoly.types import OrderedContour, Ordering
+
+    t = np.linspace(0, 2 * np.pi, 40, endpoint=False)
+    ring = np.column_stack([np.cos(t), np.sin(t)])
+    pts = np.vstack([1.2 * ring, 0.8 * ring])  # 0.2 off the ring on either side
+    ordering = Ordering([OrderedContour(ring, True, np.arange(80))], np.empty(0, np.intp), 0.1)
+    kept, beyond = beyond_the_tolerance(pts, ordering, 0.1)
+    assert kept.contours == [] and beyond.tolist() == list(range(80))
+    assert kept.outliers.tolist() == list(range(80))

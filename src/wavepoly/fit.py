@@ -171,13 +171,15 @@ def beyond_the_tolerance(points: FloatArray, ordering: Ordering, tolerance: floa
     Below the scatter, a polygon that kept every noisy point within the tolerance would
     zigzag from side to side of the band. The ordered points are neighbourhood centroids,
     the middle of the band: the polygon follows them, and the points that lie farther than the
-    tolerance from that middle are noise beyond the tolerance, listed with the outliers.
+    tolerance from that middle are noise beyond the tolerance, listed with the outliers (and
+    a contour left with none of its points goes).
     """
     kept, beyond = [], [ordering.outliers]
     for oc in ordering.contours:
         far = polyline_distance(points[oc.members], oc.points, oc.closed) > tolerance
-        kept.append(replace(oc, members=oc.members[~far]))
         beyond.append(oc.members[far])
+        if not far.all():  # a contour none of whose points is left would be drawn from nothing
+            kept.append(replace(oc, members=oc.members[~far]))
     outliers = np.sort(np.concatenate(beyond)).astype(np.intp)
     return (replace(ordering, contours=kept, outliers=outliers),
             outliers[~np.isin(outliers, ordering.outliers)])
