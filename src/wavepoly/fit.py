@@ -146,7 +146,7 @@ def _tolerance_notes(tolerance: float, ordering: Ordering, beyond: int
             f"curves ({ordering.scatter:.3g}): the curves run through the middle of the noise, "
             f"and {beyond} noisy points farther than the tolerance from them are listed with "
             f"the outliers; a tolerance of {suggested:g} keeps nearly all of them"]
-    if tolerance < NOISE_NOTE * spread and ordering.through_the_middle:  # a halo
+    if ordering.through_the_middle:  # a halo about a thin core
         return suggested, [
             f"the tolerance {tolerance:.4g} is below {NOISE_NOTE:g} x the spread of the points "
             f"about the curves over a neighbourhood ({spread:.3g}), a halo about a core of "

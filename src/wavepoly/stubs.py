@@ -13,6 +13,7 @@ import numpy as np
 import shapely
 from scipy.spatial import cKDTree
 
+from .geometry import curve_line
 from .types import Contour, FloatArray, IntArray
 
 #: Open pieces shorter than this many tolerances are checked: longer ones carry a wall of
@@ -32,9 +33,7 @@ def redundant_stubs(points: FloatArray, outliers: IntArray, contours: list[Conto
     gone = np.zeros(len(contours), dtype=bool)
     if not contours:
         return gone, 0.0
-    lines = [shapely.LinearRing(c.vertices) if c.closed and len(c.vertices) >= 3
-             else shapely.LineString(c.vertices) if len(c.vertices) >= 2
-             else shapely.Point(c.vertices[0]) for c in contours]
+    lines = [curve_line(c.vertices, c.closed) for c in contours]
     length = shapely.length(lines)
     stubs = [k for k in np.argsort(length, kind="stable")
              if not contours[k].closed and length[k] < STUB_LENGTH * tolerance]

@@ -36,7 +36,8 @@ All neighbour queries use `scipy.spatial.cKDTree`; the cost is O(n log n).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import replace
+from functools import partial
 
 import numpy as np
 
@@ -122,13 +123,13 @@ def order_points(points: FloatArray, radius: float, *, seed: int = 0, min_points
                      f"along the curves ({spacing:.4g}) is more than a third of it")
         radius = new_radius
     sparse = radius > SPARSE_WIDENING * given
-    read = _Reading(pts, radius, given, seed, min_points, tuple(notes),
-                    SPACINGS_PER_RADIUS * spacing, tolerance)
-    ordering = read(sparse)
+    read = partial(_read, pts, radius, given, seed, min_points, tuple(notes),
+                   SPACINGS_PER_RADIUS * spacing, tolerance)
+    ordering = read(sparse=sparse)
     if not sparse:
         return ordering
     # a crust test set, or a noisy band sampled more densely than the tolerance?
-    clean, noisy = ordering, read(False)
+    clean, noisy = ordering, read(sparse=False)
     if not _better_read_as_noise(clean, noisy, len(pts)):
         return clean
     note = (f"read as a noisy band, not as a sparse sample: as a sparse one the points fall "
@@ -144,31 +145,17 @@ def _better_read_as_noise(clean: Ordering, noisy: Ordering, n_points: int) -> bo
             and len(clean.contours) >= FRAGMENTS * max(len(noisy.contours), 1))
 
 
-@dataclass(frozen=True)
-class _Reading:
+def _read(pts: FloatArray, radius: float, given: float, seed: int, min_points: int,
+          notes: tuple[str, ...], min_window: float, tolerance: float | None, sparse: bool
+          ) -> Ordering:
     """`order_points` at a radius already widened for the spacing: noise, nodes, chains and
-    contours, read as a sparse sample (no noise measured) or not."""
-
-    pts: FloatArray
-    radius: float
-    given: float
-    seed: int
-    min_points: int
-    notes: tuple[str, ...]
-    min_window: float
-    tolerance: float | None
-
-    def __call__(self, sparse: bool) -> Ordering:
-        return _read(self, sparse)
-
-
-def _read(r: _Reading, sparse: bool) -> Ordering:
-    pts, radius, given, min_points = r.pts, r.radius, r.given, r.min_points
-    notes = list(r.notes)
-    rng = np.random.default_rng(r.seed)
-    nodes, atoms, scatter = noise_adaptive_nodes(pts, radius, sparse, r.min_window)
-    middle = r.tolerance is not None and runs_through_the_middle(pts, r.tolerance,
-                                                                 nodes.noise, scatter)
+    contours, read as a sparse sample (no noise measured) or not. ``notes``: those made so
+    far; ``min_window``: the narrowest window the scatter is measured over."""
+    notes = list(notes)
+    rng = np.random.default_rng(seed)
+    nodes, atoms, scatter = noise_adaptive_nodes(pts, radius, sparse, min_window)
+    middle = tolerance is not None and runs_through_the_middle(pts, tolerance, nodes.noise,
+                                                               scatter)
     corner_gap = max(CORNER_GAP * radius, CORNER_NOISE * nodes.noise) if middle else None
     if nodes.reach > radius:
         notes.append(f"noisy scan (the points spread {nodes.noise:.3g} about the curves over a "

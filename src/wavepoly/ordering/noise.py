@@ -43,7 +43,7 @@ WIDER_WINDOWS = 2
 #: The points' own scatter is measured over this many times the scatter found: a window that
 #: holds the bell of Gaussian noise out to 3 sigma across the curve and bends little along
 #: it (fish.txt measured 0.18, 0.33 and 0.54 over the windows of tolerances 0.12, 0.53 and
-#: 0.88, each suggesting the next; the crab's legs made 0.042 of a scatter of 0.011)...
+#: 0.88, each suggesting the next; the crab's legs made 0.042 of a scatter of 0.013)...
 NOISE_SIGMAS = 3.0
 #: ... when that is narrower than this share of the last window, up to this many times.
 NARROWER = 0.8
@@ -57,7 +57,7 @@ NOISE_NOTE = 2.0
 NOISE_MARGIN = 3.0
 #: A spread over a neighbourhood at most this many times the points' own scatter is a halo
 #: about a thin core (the Intel map's walls, seen from many poses: 1.5), not the curve's own
-#: shape, which makes it wider (the crab's legs: 3.2)...
+#: shape, which makes it wider (the crab's legs: 3.2).
 HALO_SPREAD = 2.5
 #: Seeds at which the noise is measured: fewer (600) made the estimate wobble enough to raise
 #: false merge notes on noisy glyphs.
