@@ -17,7 +17,7 @@ import numpy as np
 import shapely
 
 from .errors import ParameterError
-from .geometry import nest_contours, orient_by_depth, polyline_distance
+from .geometry import curve_line, nest_contours, orient_by_depth, polyline_distance
 from .levels import decompose_contour
 from .ordering import SPACINGS_PER_RADIUS, order_points
 from .ordering.noise import NOISE_MARGIN, NOISE_NOTE
@@ -107,9 +107,10 @@ def fit(points: FloatArray, tolerance: float, *,
                                                    tolerance)
     if len(contours) < n_before:  # the counts of closed and open contours change
         validity = check_contours(contours)
+    outliers, covered_error = _outliers_left(pts, ordering.outliers, contours, tolerance)
     parents = nest_contours(contours)
     contours = orient_by_depth(contours, parents)
-    errors = np.concatenate([[c.max_error] for c in contours] + [[stub_error]])
+    errors = np.concatenate([[c.max_error] for c in contours] + [[stub_error, covered_error]])
     counted = [k == (r.first_piece if r.first_piece is not None else k)
                for k, r in enumerate(reports)]  # the pieces of a split contour share its points
     n_members = sum(r.input_points for r, once in zip(reports, counted) if once)
@@ -124,7 +125,7 @@ def fit(points: FloatArray, tolerance: float, *,
         notes.append("no contour found: every point is an outlier at this radius")
     suggested, tolerance_notes = _tolerance_notes(tolerance, ordering, len(beyond))
     notes += tolerance_notes
-    return FitResult(contours, tolerance, float(errors.max()), float(mean), ordering.outliers,
+    return FitResult(contours, tolerance, float(errors.max()), float(mean), outliers,
                      len(pts), parents, reports, timings, tuple(notes), validity=validity,
                      suggested_tolerance=suggested)
 
@@ -243,6 +244,28 @@ def _without_stubs(points: FloatArray, outliers: IntArray, contours: list[Contou
             kept_r.append(r if r.first_piece is None
                           else replace(r, first_piece=first_left[r.first_piece]))
     return kept_c, kept_r, farthest
+
+
+def _outliers_left(points: FloatArray, outliers: IntArray, contours: list[Contour],
+                   tolerance: float) -> tuple[IntArray, float]:
+    """The outliers that no output contour passes within ``tolerance`` of, and the largest
+    distance of the others to the output.
+
+    The ordering lists as outliers the points far from their own chain; some of them (strays
+    beside a wall, the foot of a wall meeting another) lie within the tolerance of the polygons
+    drawn all the same, and the guarantee holds for them.
+    """
+    if not len(outliers) or not contours:
+        return outliers, 0.0
+    lines = [curve_line(c.vertices, c.closed) for c in contours]
+    where = shapely.points(points[outliers])
+    point, line = shapely.STRtree(lines).query(where, predicate="dwithin", distance=tolerance)
+    if not len(point):
+        return outliers, 0.0
+    gap = np.full(len(outliers), np.inf)
+    np.minimum.at(gap, point, shapely.distance(where[point], np.asarray(lines)[line]))
+    covered = np.isfinite(gap)
+    return outliers[~covered], float(gap[covered].max())
 
 
 def _neighbours(points: FloatArray, ordered: list[OrderedContour], tolerance: float

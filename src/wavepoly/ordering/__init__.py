@@ -30,6 +30,9 @@ Python loop runs over points:
    two radii of its contour is a member, the tail of that scatter, which the polygon covers.
    A group of outliers or a short stroke beyond a closed contour's sharp turn is the tip of a
    notch the march turned back from: the turn's vertex moves out to it (`tips`).
+5. On a noisy scan the outliers are read again: the compact strokes among them (a ghost wall
+   beside a wall, the foot of a short wall meeting it) become contours clear of the first
+   ones (`strokes`).
 
 All neighbour queries use `scipy.spatial.cKDTree`; the cost is O(n log n).
 """
@@ -56,6 +59,7 @@ from .marching import (
 from .neighbourhoods import Nodes, perpendicular_kurtosis
 from .noise import noise_adaptive_nodes, runs_through_the_middle
 from .spacing import curve_spacing, median_spacing, spacing_bound
+from .strokes import stroke_contours
 from .walls import split_two_walls
 
 #: Kurtosis of the perpendicular scatter below which a wide neighbourhood is two walls, not a
@@ -146,11 +150,12 @@ def _better_read_as_noise(clean: Ordering, noisy: Ordering, n_points: int) -> bo
 
 
 def _read(pts: FloatArray, radius: float, given: float, seed: int, min_points: int,
-          notes: tuple[str, ...], min_window: float, tolerance: float | None, sparse: bool
-          ) -> Ordering:
+          notes: tuple[str, ...], min_window: float, tolerance: float | None, sparse: bool,
+          again: bool = False) -> Ordering:
     """`order_points` at a radius already widened for the spacing: noise, nodes, chains and
     contours, read as a sparse sample (no noise measured) or not. ``notes``: those made so
-    far; ``min_window``: the narrowest window the scatter is measured over."""
+    far; ``min_window``: the narrowest window the scatter is measured over; ``again``: this
+    is the second reading of a noisy scan's outliers (`strokes`), which is not read again."""
     notes = list(notes)
     rng = np.random.default_rng(seed)
     nodes, atoms, scatter = noise_adaptive_nodes(pts, radius, sparse, min_window)
@@ -184,5 +189,10 @@ def _read(pts: FloatArray, radius: float, given: float, seed: int, min_points: i
     if clean_scan(nodes.noise, radius):  # on a noisy scan such groups are clutter
         islands, outliers = island_contours(outliers, pts, radius, given)
         contours += islands
+    elif not (again or middle):  # below the scatter, what lies off the middle is noise
+        reread = partial(_read, radius=radius, given=given, seed=seed, min_points=min_points,
+                         notes=(), min_window=0.0, tolerance=None, sparse=True, again=True)
+        strokes, outliers = stroke_contours(pts, outliers, contours, radius, given, reread)
+        contours += strokes
     return Ordering(contours, outliers, radius, merged, tuple(notes), nodes.noise, scatter,
                     middle)

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
-from ..geometry import nearest_segment, nearest_site
+from ..geometry import nearest_segment, nearest_site, polyline_length
 from ..types import Chain, FloatArray, IntArray, OrderedContour
 from .marching import CORNER_TURN, turning
 from .neighbourhoods import Nodes
@@ -57,6 +57,18 @@ SHORT_CHAIN_REACH = 4.0
 CORNER_NOISE = 3.0
 #: Rounds of corner insertion: each halves the gap a rounded corner leaves.
 CORNER_ROUNDS = 4
+#: A chain runs straight through a segment when its directions two segments before and after
+#: differ by less than this (degrees): a corner the neighbourhoods rounded off turns the chain
+#: by more over those five segments (a right angle rounded over 6 nodes: about 75).
+STRAIGHT_TURN = 30.0
+#: A dense curve holds at least this many points per radius of its chain (the Intel map's walls
+#: 19, Freiburg's 118; silhouettes and glyphs 2-8). Along a straight stretch of one, a group
+#: off the chain is no corner: neighbourhoods that hold hundreds of points follow any real
+#: turn, and what lies off them is a second band beside the wall (a ghost wall), the foot of a
+#: wall meeting it, or strays; reaching each with a spike zigzagged the walls of both maps.
+#: Those points are left to the outliers' second reading (`strokes`). On a sparse sample a
+#: few points off a straight stretch are a feature the reach smoothed over (the crab's mouth).
+DENSE_CURVE = 12.0
 
 
 def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain],
@@ -112,8 +124,9 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
         vertex[own] = _vertex_index(nodes.xy[seq], xy)[at[own]]
         sure = (vertex >= 0) & (dist[members] <= corner_gap)
         unsure = np.flatnonzero(~sure)
+        bends_only = not clean and _dense(xy, closed, len(members), radius)
         xy, far = _cover_cut_corners(xy, pts[members[unsure]], closed, radius, vertex[sure],
-                                     outlier_gap, corner_gap=corner_gap)
+                                     outlier_gap, corner_gap=corner_gap, bends_only=bends_only)
         xy = untangle(xy, closed)
         inside = np.ones(len(members), dtype=bool)
         inside[unsure[far]] = False
@@ -142,8 +155,8 @@ def _vertex_index(chain: FloatArray, xy: FloatArray) -> IntArray:
 
 def _cover_cut_corners(xy: FloatArray, members: FloatArray, closed: bool, radius: float,
                        near_vertex: IntArray | None = None, outlier_gap: float | None = None,
-                       rounds: int = CORNER_ROUNDS, corner_gap: float | None = None
-                       ) -> tuple[FloatArray, IntArray]:
+                       rounds: int = CORNER_ROUNDS, corner_gap: float | None = None,
+                       bends_only: bool = False) -> tuple[FloatArray, IntArray]:
     """Insert member points where a group of them lies off the chain (a corner it cut).
 
     Where `CORNER_GROUP` points tied to one chain segment are farther than ``corner_gap``
@@ -151,7 +164,8 @@ def _cover_cut_corners(xy: FloatArray, members: FloatArray, closed: bool, radius
     (`_cut_corner`), the farthest of them is inserted into that segment; a few rounds of
     this put a point on a corner that neighbourhood averaging rounded off. Lone noisy points
     never qualify, nor does a halo of strays about a dense wall (a few points among the many
-    of each stretch).
+    of each stretch); with ``bends_only`` (a dense curve, `DENSE_CURVE`), nor does a group
+    beside a stretch the chain runs straight through (`STRAIGHT_TURN`).
     ``near_vertex`` holds, for further points of the chain not in ``members``, the vertex each
     lies within the gap of: they count half to each segment beside it.
     Returns the new chain and the members still farther than ``outlier_gap`` (default: the
@@ -170,12 +184,39 @@ def _cover_cut_corners(xy: FloatArray, members: FloatArray, closed: bool, radius
             worst[seg[order]] = order  # the last write per segment is its farthest point
             total = np.bincount(seg, minlength=len(xy)) + _beside(near_vertex, len(xy), ring)
             counts = np.bincount(seg[far], minlength=len(xy))
-            segs = np.flatnonzero(_cut_corner(counts, total))
+            cut = _cut_corner(counts, total)
+            if bends_only:
+                cut &= ~_straight_segments(xy, ring)
+            segs = np.flatnonzero(cut)
         if not len(segs):
             return xy, far[dist[far] > (radius if outlier_gap is None else outlier_gap)]
         near_vertex = near_vertex + np.searchsorted(segs + 1, near_vertex, side="right")
         xy = np.insert(xy, segs + 1, members[worst[segs]], axis=0)
     raise AssertionError("unreachable")  # pragma: no cover
+
+
+def _dense(xy: FloatArray, closed: bool, n_members: int, radius: float) -> bool:
+    """Whether a chain with ``n_members`` points is a dense curve (`DENSE_CURVE`)."""
+    return n_members * radius >= DENSE_CURVE * max(polyline_length(xy, closed), radius)
+
+
+def _straight_segments(xy: FloatArray, ring: bool) -> np.ndarray:
+    """Which segments (vertex i to i + 1) the chain runs straight through (`STRAIGHT_TURN`):
+    the direction over the two segments before vertex i against that over the two after
+    vertex i + 1."""
+    n = len(xy)
+    if n < 2:
+        return np.zeros(n, dtype=bool)
+    idx = np.arange(n)
+    if ring:
+        a0, a1, b0, b1 = xy[(idx - 2) % n], xy[idx], xy[(idx + 1) % n], xy[(idx + 3) % n]
+    else:
+        a0, a1 = xy[np.maximum(idx - 2, 0)], xy[idx]
+        b0, b1 = xy[np.minimum(idx + 1, n - 1)], xy[np.minimum(idx + 3, n - 1)]
+    da, db = a1 - a0, b1 - b0
+    norm = np.linalg.norm(da, axis=1) * np.linalg.norm(db, axis=1)
+    cos = np.einsum("ij,ij->i", da, db) / np.where(norm > 0, norm, 1.0)
+    return (norm > 0) & (cos > np.cos(np.radians(STRAIGHT_TURN)))
 
 
 def _beside(vertex: IntArray, n: int, ring: bool) -> FloatArray:

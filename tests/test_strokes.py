@@ -1,0 +1,128 @@
+"""Dense noisy walls: no spike from a straight stretch; strokes among the outliers are contours."""
+
+from __future__ import annotations
+
+from functools import partial
+
+import numpy as np
+import pytest
+import shapely
+
+import wavepoly
+from wavepoly.ordering import _read
+from wavepoly.ordering.contours import _cover_cut_corners
+from wavepoly.ordering.strokes import CLEARANCE, stroke_contours
+from wavepoly.types import OrderedContour
+
+from .conftest import distance_to_output, teeth
+
+SCATTER = 0.03  # a laser map's wall scatter (Intel: about 0.03), at a tolerance of 0.1
+TOLERANCE = 0.1
+
+
+def _wall(rng, n=20000, length=10.0):
+    return np.column_stack([rng.uniform(0, length, n), rng.normal(0, SCATTER, n)])
+
+
+@pytest.fixture(scope="module")
+def tee_junctions():
+    """A 10 m wall with nine short walls 0.5 m long standing on it, 1 m apart (a corridor
+    with the walls of its rooms): 14.5 m of walls."""
+    rng = np.random.default_rng(2)
+    stubs = [np.column_stack([x + rng.normal(0, SCATTER, 800), rng.uniform(0, 0.5, 800)])
+             for x in np.arange(1.0, 10.0)]
+    pts = np.vstack([_wall(rng), *stubs])
+    return pts, wavepoly.fit(pts, TOLERANCE)
+
+
+def test_short_walls_meeting_a_wall_are_walls_not_spikes(tee_junctions):
+    """The feet of the short walls are farther than the radius from the long wall's chain. They
+    were reached by spikes up each short wall and back, 23.8 m of lines for 14.5 m of walls;
+    now each short wall is a piece of its own, or the wall's vertex at its foot, and nothing
+    is drawn twice."""
+    pts, res = tee_junctions
+    assert res.validity.valid
+    inliers = np.setdiff1d(np.arange(len(pts)), res.outliers)
+    assert distance_to_output(pts[inliers], res).max() <= TOLERANCE * (1 + 1e-9)
+    assert len(res.outliers) <= 0.01 * len(pts)
+    drawn = sum(shapely.length(shapely.linestrings(c.vertices)) for c in res.contours)
+    assert 0.9 * 14.5 <= drawn <= 1.05 * 14.5  # a short wall ends within 1.5 tolerances of the long
+    tops = shapely.points(np.column_stack([np.arange(1.0, 10.0), np.full(9, 0.5)]))
+    assert (distance_to_output(shapely.get_coordinates(tops), res) <= TOLERANCE).all()
+
+
+def test_no_teeth_on_a_straight_dense_wall_with_a_ghost(tee_junctions):
+    """A wall with a second, fainter band 1.6 tolerances beside it (a pass whose registration
+    drifted): no vertex turns back between short edges, and the outliers are few."""
+    rng = np.random.default_rng(1)
+    ghost = np.column_stack([rng.uniform(2, 6, 3000), rng.normal(0.16, 0.015, 3000)])
+    pts = np.vstack([_wall(rng), ghost])
+    res = wavepoly.fit(pts, TOLERANCE)
+    assert res.validity.valid and teeth(res) == 0
+    assert len(res.outliers) <= 0.01 * len(pts)
+    assert distance_to_output(pts[res.outliers], res).min() > TOLERANCE
+
+
+def _straight_chain():
+    return np.column_stack([np.linspace(0, 2, 21), np.zeros(21)])
+
+
+def test_a_group_beside_a_straight_stretch_is_no_corner_on_a_dense_curve():
+    """Eight points 0.08 off the middle of a straight chain: a corner it cut, on a sparse
+    sample; on a dense curve (`bends_only`), not."""
+    group = np.column_stack([np.linspace(0.96, 1.04, 8), np.full(8, 0.08)])
+    chain = _straight_chain()
+    sparse, _ = _cover_cut_corners(chain, group, False, 0.1)
+    dense, far = _cover_cut_corners(chain, group, False, 0.1, bends_only=True)
+    assert len(sparse) > len(chain)
+    np.testing.assert_array_equal(dense, chain)
+    assert len(far) == 0  # within the radius: members, as before
+
+
+def test_a_rounded_corner_is_still_restored_on_a_dense_curve():
+    """A right angle at (1, 0) the neighbourhoods rounded off (an arc of 0.2 that passes 0.08
+    inside it): the points beyond the chain are still inserted, for the chain bends there."""
+    theta = np.linspace(-np.pi / 2, 0, 7)
+    chain = np.vstack([np.column_stack([np.linspace(0, 0.75, 16), np.zeros(16)]),
+                       np.column_stack([0.8 + 0.2 * np.cos(theta), 0.2 + 0.2 * np.sin(theta)]),
+                       np.column_stack([np.ones(16), np.linspace(0.25, 1, 16)])])
+    s = np.linspace(0, 1, 200)
+    members = np.vstack([np.column_stack([s, np.zeros(200)]), np.column_stack([np.ones(200), s])])
+    covered, _ = _cover_cut_corners(chain, members, False, 0.1, bends_only=True)
+    assert np.min(np.linalg.norm(covered - [1.0, 0.0], axis=1)) < 0.03
+
+
+def _reread(pts, radius=TOLERANCE):
+    return partial(_read, radius=radius, given=radius, seed=0, min_points=4, notes=(),
+                   min_window=0.0, tolerance=None, sparse=True, again=True)
+
+
+def test_a_ghost_band_among_the_outliers_becomes_a_stroke_clear_of_the_wall():
+    rng = np.random.default_rng(5)
+    wall = OrderedContour(_straight_chain() * [5, 1], False, np.empty(0, dtype=np.intp))
+    ghost = np.column_stack([rng.uniform(2, 6, 1500), rng.normal(0.16, 0.01, 1500)])
+    strays = np.column_stack([rng.uniform(0, 10, 30), rng.uniform(0.3, 1.0, 30)])
+    pts = np.vstack([ghost, strays])
+    outliers = np.arange(len(pts))
+    found, left = stroke_contours(pts, outliers, [wall], TOLERANCE, TOLERANCE, _reread(pts))
+    assert len(found) == 1 and not found[0].closed
+    stroke = shapely.linestrings(found[0].points)
+    assert shapely.distance(stroke, shapely.linestrings(wall.points)) >= CLEARANCE * TOLERANCE
+    assert stroke.length > 3.5
+    assert set(left.tolist()) >= set(range(1500, 1530))  # the strays stay outliers
+    assert len(left) < 1500 + 30 + 0.01 * 1500
+
+
+def test_a_stroke_is_cut_where_it_would_cross_a_contour():
+    """A line of outliers across a wall (its middle held by the wall in a real reading): two
+    pieces, each clear of the wall."""
+    rng = np.random.default_rng(6)
+    wall = OrderedContour(_straight_chain() * [5, 1], False, np.empty(0, dtype=np.intp))
+    across = np.column_stack([rng.normal(5, 0.01, 1200), rng.uniform(-1, 1, 1200)])
+    found, _ = stroke_contours(across, np.arange(1200), [wall], TOLERANCE, TOLERANCE,
+                               _reread(across))
+    assert len(found) == 2
+    for c in found:
+        line = shapely.linestrings(c.points)
+        assert shapely.distance(line, shapely.linestrings(wall.points)) >= (
+            CLEARANCE * TOLERANCE * (1 - 1e-9))
