@@ -18,6 +18,7 @@ import shapely
 
 from .errors import ParameterError
 from .geometry import curve_line, nest_contours, orient_by_depth, polyline_distance
+from .junctions import meet_at_junctions
 from .levels import decompose_contour
 from .ordering import SPACINGS_PER_RADIUS, order_points
 from .ordering.noise import NOISE_MARGIN, NOISE_NOTE
@@ -105,7 +106,10 @@ def fit(points: FloatArray, tolerance: float, *,
     n_before = len(contours)
     contours, reports, stub_error = _without_stubs(pts, ordering.outliers, contours, reports,
                                                    tolerance)
-    if len(contours) < n_before:  # the counts of closed and open contours change
+    contours, grown = meet_at_junctions(contours, tolerance)
+    for k in grown:
+        reports[k] = replace(reports[k], final_vertices=len(contours[k].vertices))
+    if len(contours) < n_before or grown:  # the counts, or the junctions, change
         validity = check_contours(contours)
     outliers, covered_error = _outliers_left(pts, ordering.outliers, contours, tolerance)
     parents = nest_contours(contours)
