@@ -23,7 +23,8 @@ Python loop runs over points:
    sharply, the run of turning points is replaced by the intersection of the straight legs on
    either side, so corners stay sharp instead of being rounded by the neighbourhood averaging.
    Short chains alongside longer ones (noise split off a wall, a notch's tip) are absorbed
-   (`marching`, `joining`).
+   (`marching`, `joining`). On a noisy scan a node holds at least two points (strays on a
+   floor are no chain), and a join wider than 4 reaches runs along points (no door is closed).
 4. Every input point belongs to the contour of its nearest ordered point (``members``); points of
    contours too short to be curves, or farther than ``radius`` from their contour, are outliers
    (`contours`); on a clean sampling (scatter at most a quarter of the radius) a point within
@@ -48,6 +49,7 @@ from ..types import FloatArray, Ordering
 from ..validate import check_tolerance, validate_points
 from .contours import CORNER_GAP, CORNER_NOISE, clean_scan, contours_of
 from .islands import island_contours
+from .joining import Support
 from .marching import (
     chains_of,
     drop_crossing_loops,
@@ -56,7 +58,7 @@ from .marching import (
     thin,
     wide_nodes,
 )
-from .neighbourhoods import Nodes, perpendicular_kurtosis
+from .neighbourhoods import Nodes, nodes_with_points, perpendicular_kurtosis
 from .noise import noise_adaptive_nodes, runs_through_the_middle
 from .spacing import curve_spacing, median_spacing, spacing_bound
 from .strokes import stroke_contours
@@ -82,6 +84,11 @@ FRAGMENTS = 3
 #: ... and it keeps all but this share of the points (a crust set that only noise can join
 #: into one contour loses more: ventilator, 8 contours against 1 with 58 % outliers).
 NOISE_READ_LOSS = 0.25
+
+#: On a noisy scan a node summarizes at least this many points: one point has no tangent (its
+#: regression line points anywhere), and strays on a laser map's floor, one per
+#: neighbourhood, were linked into lines across the rooms.
+NODE_POINTS = 2
 
 __all__ = ["curve_spacing", "median_spacing", "order_points"]
 
@@ -166,11 +173,14 @@ def _read(pts: FloatArray, radius: float, given: float, seed: int, min_points: i
         notes.append(f"noisy scan (the points spread {nodes.noise:.3g} about the curves over a "
                      f"neighbourhood): neighbourhoods widened from {radius:.4g} to "
                      f"{nodes.reach:.4g} to follow the curves")
+    noisy = not clean_scan(nodes.noise, radius)
+    if noisy:
+        nodes = nodes_with_points(nodes, atoms, NODE_POINTS)
     nodes = split_two_walls(nodes, atoms, radius)
     keep = thin(nodes.xy, radius / 2, rng)
     nodes = Nodes(nodes.xy[keep], nodes.tangent[keep], nodes.ratio[keep], nodes.spread[keep],
                   nodes.reach, nodes.noise)
-    links = link_nodes(nodes, radius)
+    links = link_nodes(nodes, radius, Support(atoms.tree, radius) if noisy else None)
     chains, absorbed = drop_side_chains(nodes, chains_of(links, len(nodes.xy)))
     chains, absorbed = drop_crossing_loops(nodes, chains, absorbed)
     wide = wide_nodes(nodes, chains, radius)

@@ -10,6 +10,8 @@ wider on noisy scans); every distance here is in R.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
@@ -45,13 +47,15 @@ LONG_CLOSE_GAP = 3.0
 CLOSING_GAP = 8.0
 
 
-def join_ends(nodes: Nodes, links: IntArray) -> IntArray:
+def join_ends(nodes: Nodes, links: IntArray, support: Support | None = None) -> IntArray:
     """Join free ends (and lone nodes) that are each other's nearest free node.
 
     Ends join within `ANY_DIRECTION_GAP` R whatever their directions, and across a gap of up
     to `FACING_GAP` R when each end faces the other. A chain's two ends join only when the
     chain is long enough to close on itself and one end points at the other. The joining
-    repeats (`JOIN_ROUNDS`), so a lone node can bridge a gap.
+    repeats (`JOIN_ROUNDS`), so a lone node can bridge a gap. With ``support`` (a noisy
+    scan's points), a join wider than `ANY_DIRECTION_GAP` R must run along points: a laser
+    map's gap that wide is a door.
     """
     reach = nodes.reach
     n = len(nodes.xy)
@@ -60,7 +64,7 @@ def join_ends(nodes: Nodes, links: IntArray) -> IntArray:
         free = np.flatnonzero(degree < 2)
         if len(free) < 2:
             break
-        pairs = _mutual_nearest_ends(nodes, links, free, degree, reach)
+        pairs = _mutual_nearest_ends(nodes, links, free, degree, reach, support)
         if not len(pairs):
             break
         links = np.vstack([links, pairs])
@@ -68,7 +72,7 @@ def join_ends(nodes: Nodes, links: IntArray) -> IntArray:
 
 
 def _mutual_nearest_ends(nodes: Nodes, links: IntArray, free: IntArray, degree: IntArray,
-                         reach: float) -> IntArray:
+                         reach: float, support: Support | None = None) -> IntArray:
     """One round of joining: pairs of free nodes that choose each other."""
     n = len(nodes.xy)
     comp = _components(links, n)
@@ -111,6 +115,9 @@ def _mutual_nearest_ends(nodes: Nodes, links: IntArray, free: IntArray, degree: 
         closing = same & (size[comp[free]] >= LONG_CHAIN_NODES) & (
             (ahead > FACING_COS * dist[:, col]) | (ahead_other > FACING_COS * dist[:, col]))
         ok &= (dist[:, col] <= ANY_DIRECTION_GAP * reach) | facing | closing
+        if support is not None:  # across a door, or the empty floor between strays
+            wide = np.flatnonzero(ok & (dist[:, col] > ANY_DIRECTION_GAP * reach))
+            ok[wide] = support.along(nodes.xy[free[wide]], nodes.xy[free[cand[wide]]])
         first = ok & (best < 0)
         best_dist = np.where(first, dist[:, col], best_dist)
         best[first] = cand[first]
@@ -122,6 +129,26 @@ def _mutual_nearest_ends(nodes: Nodes, links: IntArray, free: IntArray, degree: 
     mutual = (best >= 0) & (best[np.maximum(best, 0)] == np.arange(len(free)))
     pairs = np.column_stack([free[mutual], free[best[mutual]]])
     return pairs[pairs[:, 0] < pairs[:, 1]]
+
+
+@dataclass(frozen=True)
+class Support:
+    """The points a wide join must run along on a noisy scan: points within a ``radius`` of
+    every sample along it, a radius apart."""
+
+    tree: cKDTree
+    radius: float
+
+    def along(self, a: FloatArray, b: FloatArray) -> np.ndarray:
+        """Whether points lie along each segment from ``a[i]`` to ``b[i]``."""
+        if not len(a):
+            return np.zeros(0, dtype=bool)
+        steps = np.maximum(np.ceil(np.linalg.norm(b - a, axis=1) / self.radius), 1).astype(int)
+        owner = np.repeat(np.arange(len(a)), steps + 1)
+        t = np.concatenate([np.linspace(0.0, 1.0, k + 1) for k in steps])
+        at = a[owner] + t[:, None] * (b - a)[owner]
+        near, _ = self.tree.query(at, distance_upper_bound=self.radius)
+        return np.bincount(owner, ~np.isfinite(near), len(a)) == 0
 
 
 def _outward(xy: FloatArray, links: IntArray, free: IntArray, degree: IntArray) -> FloatArray:

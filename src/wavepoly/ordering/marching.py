@@ -24,7 +24,7 @@ from scipy.spatial import cKDTree
 
 from ..geometry import curve_line
 from ..types import Chain, FloatArray, IntArray
-from .joining import join_ends
+from .joining import Support, join_ends
 from .neighbourhoods import Nodes
 
 #: Turning angle (degrees, measured over two ordered points each side) that marks a corner.
@@ -72,8 +72,9 @@ def thin(xy: FloatArray, separation: float, rng: np.random.Generator) -> IntArra
 
 
 
-def link_nodes(nodes: Nodes, radius: float) -> IntArray:
-    """Mutual links (pairs of node indices) between each node and its neighbours ahead/behind."""
+def link_nodes(nodes: Nodes, radius: float, support: Support | None = None) -> IntArray:
+    """Mutual links (pairs of node indices) between each node and its neighbours ahead/behind;
+    then free ends joined (`join_ends`, wide joins along the ``support`` points when given)."""
     n = len(nodes.xy)
     k = min(LINK_NEIGHBOURS, n)
     if n < 2:
@@ -93,7 +94,7 @@ def link_nodes(nodes: Nodes, radius: float) -> IntArray:
     key_fwd = cand[:, 0] * n + cand[:, 1]
     key_rev = cand[:, 1] * n + cand[:, 0]
     mutual = np.isin(key_fwd, key_rev) & (cand[:, 0] < cand[:, 1])
-    return join_ends(nodes, cand[mutual])
+    return join_ends(nodes, cand[mutual], support)
 
 
 def _first(mask: np.ndarray) -> IntArray:

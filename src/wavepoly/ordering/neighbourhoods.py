@@ -139,6 +139,17 @@ def regression_step(xy: FloatArray, atoms: Atoms, reach: float
     return centroid + along[:, None] * tangent, tangent, ratio, spread
 
 
+def nodes_with_points(nodes: Nodes, atoms: Atoms, min_points: float) -> Nodes:
+    """The nodes whose neighbourhoods (of ``nodes.reach``) hold at least ``min_points``
+    points."""
+    pairs = cKDTree(nodes.xy).sparse_distance_matrix(atoms.tree, nodes.reach,
+                                                      output_type="ndarray")
+    weight = np.bincount(pairs["i"], atoms.weight[pairs["j"]], len(nodes.xy))
+    keep = weight >= min_points
+    return Nodes(nodes.xy[keep], nodes.tangent[keep], nodes.ratio[keep], nodes.spread[keep],
+                 nodes.reach, nodes.noise)
+
+
 @dataclass(frozen=True)
 class Offsets:
     """The points within a reach of each line (centre, tangent): for each pair, the line it
