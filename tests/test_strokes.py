@@ -7,6 +7,8 @@ from functools import partial
 import numpy as np
 import pytest
 import shapely
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import wavepoly
 from wavepoly.ordering import _read
@@ -173,3 +175,47 @@ def test_strays_on_the_floor_draw_no_walls_and_doors_stay_open(seed):
         for c in res.contours])
     assert (shapely.distance(shapely.points(DOORS), drawn) > 0.4).all()
     assert len(res.contours) <= 6 and len(res.outliers) <= 0.01 * len(pts) + 60
+
+
+@st.composite
+def floor_plans(draw):
+    """A few axis-parallel walls 1-5 m long on a 10 m floor, scanned with a laser map's
+    scatter and density, and strays on the floor."""
+    seed = draw(st.integers(0, 2**31 - 1))
+    n_walls = draw(st.integers(2, 6))
+    strays = draw(st.integers(0, 80))
+    rng = np.random.default_rng(seed)
+    walls = []
+    for _ in range(n_walls):
+        start = rng.uniform(0, 8, 2)
+        end = start.copy()
+        axis = int(rng.integers(2))
+        end[axis] = min(start[axis] + rng.uniform(1, 5), 10.0)
+        walls.append((start, end))
+    return walls, _scan(rng, walls, strays)
+
+
+def _scan(rng, walls, strays):
+    parts = []
+    for a, b in walls:
+        n = int(800 * np.linalg.norm(b - a))
+        t = rng.uniform(0, 1, n)[:, None]
+        normal = np.array([a[1] - b[1], b[0] - a[0]]) / np.linalg.norm(b - a)
+        parts.append(a + t * (b - a) + rng.normal(0, SCATTER, (n, 1)) * normal)
+    parts.append(rng.uniform(0, 10, (strays, 2)))
+    return np.vstack(parts)
+
+
+@settings(max_examples=12, deadline=None)
+@given(floor_plans())
+def test_floor_plans_are_valid_and_within_the_tolerance(plan):
+    """Walls crossing, meeting at T and L junctions or running side by side, with strays:
+    the result is valid geometry, every point not listed is within the tolerance, and no
+    listed point is."""
+    _, pts = plan
+    res = wavepoly.fit(pts, TOLERANCE)
+    assert res.validity.valid, res.validity.problems[:3]
+    inliers = np.setdiff1d(np.arange(len(pts)), res.outliers)
+    assert distance_to_output(pts[inliers], res).max() <= TOLERANCE * (1 + 1e-9)
+    if len(res.outliers):
+        assert distance_to_output(pts[res.outliers], res).min() > TOLERANCE
