@@ -12,10 +12,13 @@ import shapely
 
 import wavepoly
 from wavepoly.baselines import min_vertices_covering
+from wavepoly.geometry import turn_backs
 from wavepoly.samples import TrueShape, glyph_outlines, sample_rings
 
 from .common import ROOT, SHARED, table
 
+#: A tooth's edges are shorter than this many tolerances.
+TOOTH_EDGE = 2.0
 #: The truth shapes are sampled at a tolerance of their diagonal / this, with noise ε / 8.
 DIAGONAL_PER_TOLERANCE = 150.0
 
@@ -132,14 +135,18 @@ def run() -> str:
         got = f"{n_closed}/{len(res.contours) - n_closed}"
         right = "—" if expected is None else _against_truth(expected, res, eps)
         cover = _covering_min(pts, eps) if len(pts) <= 200_000 else None
+        teeth = sum(turn_backs(c.vertices, c.closed, TOOTH_EDGE * eps) for c in res.contours)
         rows.append([name, len(pts), f"{eps:.4g}", got, right, len(problems) - crossing,
-                     crossing, f"{100 * len(res.outliers) / len(pts):.2f} %", res.n_vertices,
+                     crossing, teeth, f"{100 * len(res.outliers) / len(pts):.2f} %",
+                     res.n_vertices,
                      "infeasible" if cover is None else f"{res.n_vertices / cover:.3f}",
                      seconds])
     return ("## Valid geometry\n\nEvery result checked with shapely directly (not with "
             "wavepoly's own check): *invalid* counts closed contours that are not valid "
             "polygons and open ones that are not simple; *crossing* counts pairs of contours "
-            "that meet other than at an open contour's end (a junction). *closed/open* is what "
+            "that meet other than at an open contour's end (a junction). *teeth*: vertices "
+            f"where a contour turns back by more than 135° between edges under {TOOTH_EDGE:g} ε, "
+            "the teeth of a zigzag through a band of points. *closed/open* is what "
             "the fit gives; *right* compares it with the truth where it is known (glyphs, and "
             "the SVG truth shapes sampled every ε/3 with noise ε/8, ε = diagonal / "
             f"{DIAGONAL_PER_TOLERANCE:g}): where the true rings are disjoint, every ring must "
@@ -155,7 +162,7 @@ def run() -> str:
             "curve through the middle of the band, which a polygon could only reach by "
             "zigzagging across it.\n\n"
             + table(["case", "points", "ε", "closed/open", "right", "invalid", "crossing",
-                     "outliers", "vertices", "vs covering min-#", "seconds"], rows)
+                     "teeth", "outliers", "vertices", "vs covering min-#", "seconds"], rows)
             + "\n\n" + glyph_sweep())
 
 

@@ -41,16 +41,7 @@ def distance_to_output(points: np.ndarray, result) -> np.ndarray:
 def teeth(result, short: float = 2.0, turn: float = 135.0) -> int:
     """Vertices where the output turns back by more than ``turn`` degrees between two edges
     shorter than ``short`` tolerances: the teeth of a zigzag through a band of points."""
-    count = 0
-    for c in result.contours:
-        v = c.vertices
-        if c.closed:
-            a, m, b = np.roll(v, 1, axis=0), v, np.roll(v, -1, axis=0)
-        else:
-            a, m, b = v[:-2], v[1:-1], v[2:]
-        d1, d2 = m - a, b - m
-        l1, l2 = np.linalg.norm(d1, axis=1), np.linalg.norm(d2, axis=1)
-        cos = np.einsum("ij,ij->i", d1, d2) / np.maximum(l1 * l2, 1e-300)
-        limit = short * result.tolerance
-        count += int(((cos < np.cos(np.radians(turn))) & (l1 < limit) & (l2 < limit)).sum())
-    return count
+    from wavepoly.geometry import turn_backs
+
+    return sum(turn_backs(c.vertices, c.closed, short * result.tolerance, turn)
+               for c in result.contours)

@@ -352,6 +352,19 @@ def curve_line(xy: FloatArray, closed: bool) -> shapely.Geometry:
     return shapely.linestrings(xy) if len(xy) >= 2 else shapely.points(xy[0])
 
 
+def turn_backs(xy: FloatArray, closed: bool, short: float, turn: float = 135.0) -> int:
+    """Vertices where a polyline turns back by more than ``turn`` degrees between two edges
+    shorter than ``short``: the teeth of a zigzag through a band of points."""
+    if closed and len(xy) >= 3:
+        before, at, after = np.roll(xy, 1, axis=0), xy, np.roll(xy, -1, axis=0)
+    else:
+        before, at, after = xy[:-2], xy[1:-1], xy[2:]
+    d1, d2 = at - before, after - at
+    l1, l2 = np.linalg.norm(d1, axis=1), np.linalg.norm(d2, axis=1)
+    cos = np.einsum("ij,ij->i", d1, d2) / np.maximum(l1 * l2, 1e-300)
+    return int(((cos < np.cos(np.radians(turn))) & (l1 < short) & (l2 < short)).sum())
+
+
 def polyline_length(xy: FloatArray, closed: bool) -> float:
     """Length of a polyline (closed: including the last-to-first segment)."""
     ring = np.vstack([xy, xy[:1]]) if closed else xy
