@@ -97,3 +97,16 @@ def test_group_hull_candidates_keep_every_group_hull_vertex(seed, groups):
         if len(idx) >= 3:
             assert keep[idx[ConvexHull(points[idx]).vertices]].all()
     assert keep.mean() < 0.5
+
+
+def test_turn_backs_count_the_teeth_of_a_zigzag_not_its_corners():
+    from wavepoly.geometry import turn_backs
+
+    x = np.arange(11) * 0.05
+    shallow = np.column_stack([x, np.where(np.arange(11) % 2, 0.1, 0.0)])  # turns of 127
+    steep = np.column_stack([x, np.where(np.arange(11) % 2, 0.2, 0.0)])  # turns of 152
+    square = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], dtype=float)  # right angles
+    assert turn_backs(steep, False, 0.5) == 9
+    assert turn_backs(steep, False, 0.1) == 0  # its edges are longer than that
+    assert turn_backs(square, True, 2.0) == 0
+    assert turn_backs(shallow, False, 0.5) == 0 and turn_backs(shallow, False, 0.5, turn=120) == 9
