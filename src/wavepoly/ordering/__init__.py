@@ -85,10 +85,15 @@ FRAGMENTS = 3
 #: into one contour loses more: ventilator, 8 contours against 1 with 58 % outliers).
 NOISE_READ_LOSS = 0.25
 
-#: On a noisy scan a node summarizes at least this many points: one point has no tangent (its
-#: regression line points anywhere), and strays on a laser map's floor, one per
-#: neighbourhood, were linked into lines across the rooms.
+#: On a dense noisy scan a node summarizes at least this many points: one point has no
+#: tangent (its regression line points anywhere), and strays on a laser map's floor, one per
+#: neighbourhood, were linked into lines across the rooms...
 NODE_POINTS = 2
+#: ... where the median neighbourhood holds at least this many (the Intel map 119, Freiburg
+#: 1934): there a wall puts dozens of points in any neighbourhood it crosses. On a sparser
+#: scan (Intel with every 8th point: 15) a lone point may be a far wall's return, and
+#: dropping such nodes listed half as many points again as outliers.
+DENSE_NODE = 40
 
 __all__ = ["curve_spacing", "median_spacing", "order_points"]
 
@@ -175,7 +180,7 @@ def _read(pts: FloatArray, radius: float, given: float, seed: int, min_points: i
                      f"{nodes.reach:.4g} to follow the curves")
     noisy = not clean_scan(nodes.noise, radius)
     if noisy:
-        nodes = nodes_with_points(nodes, atoms, NODE_POINTS)
+        nodes = nodes_with_points(nodes, atoms, NODE_POINTS, DENSE_NODE)
     nodes = split_two_walls(nodes, atoms, radius)
     keep = thin(nodes.xy, radius / 2, rng)
     nodes = Nodes(nodes.xy[keep], nodes.tangent[keep], nodes.ratio[keep], nodes.spread[keep],

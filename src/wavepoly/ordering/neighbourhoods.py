@@ -139,12 +139,14 @@ def regression_step(xy: FloatArray, atoms: Atoms, reach: float
     return centroid + along[:, None] * tangent, tangent, ratio, spread
 
 
-def nodes_with_points(nodes: Nodes, atoms: Atoms, min_points: float) -> Nodes:
+def nodes_with_points(nodes: Nodes, atoms: Atoms, min_points: float, typical: float) -> Nodes:
     """The nodes whose neighbourhoods (of ``nodes.reach``) hold at least ``min_points``
-    points."""
+    points, where the median neighbourhood holds at least ``typical`` (else all of them)."""
     pairs = cKDTree(nodes.xy).sparse_distance_matrix(atoms.tree, nodes.reach,
                                                       output_type="ndarray")
     weight = np.bincount(pairs["i"], atoms.weight[pairs["j"]], len(nodes.xy))
+    if not len(weight) or np.median(weight) < typical:
+        return nodes
     keep = weight >= min_points
     return Nodes(nodes.xy[keep], nodes.tangent[keep], nodes.ratio[keep], nodes.spread[keep],
                  nodes.reach, nodes.noise)
