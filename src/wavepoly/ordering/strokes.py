@@ -98,25 +98,31 @@ def _stroke_points(pts: FloatArray, outliers: IntArray, radius: float, tolerance
     return dense[wide[label]]
 
 
+def _supported(chain: OrderedContour, members: FloatArray, radius: float
+               ) -> tuple[FloatArray, np.ndarray]:
+    """The chain's polyline (closed: back to its start) and which of its segments run along
+    its points (`UNSUPPORTED`)."""
+    xy = np.vstack([chain.points, chain.points[:1]]) if chain.closed else chain.points
+    if len(xy) < 2:
+        return xy, np.zeros(0, dtype=bool)
+    gap, _ = cKDTree(members).query(0.5 * (xy[1:] + xy[:-1]))
+    return xy, gap <= UNSUPPORTED * radius
+
+
 def _untouched(chain: OrderedContour, members: FloatArray, obstacles: shapely.STRtree,
                radius: float, tolerance: float) -> bool:
     """Whether every segment of ``chain`` runs along its points, clear of the obstacles."""
-    xy = np.vstack([chain.points, chain.points[:1]])
-    gap, _ = cKDTree(members).query(0.5 * (xy[1:] + xy[:-1]))
+    _, along = _supported(chain, members, radius)
     line = curve_line(chain.points, True)
-    return bool((gap <= UNSUPPORTED * radius).all()) and not len(
+    return bool(along.all()) and not len(
         obstacles.query(line, predicate="dwithin", distance=CLEARANCE * tolerance))
 
 
 def _clear_pieces(chain: OrderedContour, members: FloatArray, obstacles: shapely.STRtree,
                   radius: float, tolerance: float) -> list[FloatArray]:
     """The stretches of ``chain`` along its points and clear of the ``obstacles``."""
-    xy = np.vstack([chain.points, chain.points[:1]]) if chain.closed else chain.points
-    if len(xy) < 2:
-        return []
-    gap, _ = cKDTree(members).query(0.5 * (xy[1:] + xy[:-1]))
-    lines = [shapely.linestrings(xy[run[0]:run[-1] + 2])
-             for run in _runs(np.flatnonzero(gap <= UNSUPPORTED * radius))]
+    xy, along = _supported(chain, members, radius)
+    lines = [shapely.linestrings(xy[run[0]:run[-1] + 2]) for run in _runs(np.flatnonzero(along))]
     pieces = []
     for line in lines:
         near = obstacles.query(line, predicate="dwithin", distance=CLEARANCE * tolerance)
