@@ -261,13 +261,13 @@ def _outliers_left(points: FloatArray, outliers: IntArray, contours: list[Contou
     """
     if not len(outliers) or not contours:
         return outliers, 0.0
-    lines = [curve_line(c.vertices, c.closed) for c in contours]
+    tree = shapely.STRtree([curve_line(c.vertices, c.closed) for c in contours])
     where = shapely.points(points[outliers])
-    point, line = shapely.STRtree(lines).query(where, predicate="dwithin", distance=tolerance)
+    point, line = tree.query(where, predicate="dwithin", distance=tolerance)
     if not len(point):
         return outliers, 0.0
     gap = np.full(len(outliers), np.inf)
-    np.minimum.at(gap, point, shapely.distance(where[point], np.asarray(lines)[line]))
+    np.minimum.at(gap, point, shapely.distance(where[point], tree.geometries[line]))
     covered = np.isfinite(gap)
     return outliers[~covered], float(gap[covered].max())
 

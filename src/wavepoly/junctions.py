@@ -68,7 +68,7 @@ def _edge_to_nearest(end: FloatArray, inner: FloatArray, k: int, lines: list,
             if j != k]
     if not near:
         return None
-    gaps = shapely.distance(here, np.asarray(lines, dtype=object)[near])
+    gaps = shapely.distance(here, tree.geometries[near])
     j = near[int(np.argmin(gaps))]
     if gaps.min() == 0:
         return None  # it meets that contour already
