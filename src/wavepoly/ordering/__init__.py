@@ -30,7 +30,9 @@ Python loop runs over points:
    (`contours`); on a clean sampling (scatter at most a quarter of the radius) a point within
    two radii of its contour is a member, the tail of that scatter, which the polygon covers.
    A group of outliers or a short stroke beyond a closed contour's sharp turn is the tip of a
-   notch the march turned back from: the turn's vertex moves out to it (`tips`).
+   notch the march turned back from: the turn's vertex moves out to it (`tips`). Open pieces
+   that form one cycle with stems hanging off it (a slit or a thin limb whose walls the march
+   followed as one chain) become a closed outline that walks each stem out and back (`stems`).
 5. On a noisy scan the outliers are read again: the compact strokes among them (a ghost wall
    beside a wall, the foot of a short wall meeting it) become contours clear of the first
    ones (`strokes`).

@@ -16,6 +16,7 @@ from ..geometry import nearest_segment, nearest_site, polyline_length
 from ..types import Chain, FloatArray, IntArray, OrderedContour
 from .marching import CORNER_TURN, turning
 from .neighbourhoods import Nodes
+from .stems import close_outlines
 from .tips import extend_tips
 from .untangle import (
     merge_overlapping_rings,
@@ -137,6 +138,9 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
         contours, outliers = extend_tips(contours, outliers, pts, radius, outlier_gap)
     contours = merge_overlapping_rings(swap_crossed_stretches(contours, pts))
     contours = split_at_crossings(contours, pts)
+    # a dense noisy curve is a laser map's: a room's wall and a short wall meeting it are lines
+    contours = close_outlines(contours, pts, radius, leave=lambda c: not clean and _dense(
+        c.points, c.closed, len(c.members), radius))
     return contours, outliers
 
 

@@ -1,0 +1,462 @@
+"""Closed outlines with stems: a ring of open pieces, and the slits and thin limbs hanging off it.
+
+Where two walls of an outline run closer than the radius for a while (a slit cut into a
+silhouette, a limb thinner than the tolerance), the neighbourhoods span both walls and the march
+follows them as one chain, a *stem*. The outline then meets the stem at a T junction, so the
+march leaves it open there (a lollipop: a loop and its tail), or the crossing split cuts it into
+pieces that meet at the junctions. Read as a graph (pieces are edges, their ends and T
+junctions nodes), such an outline is one cycle with stems hanging off it. Walking the cycle and
+each stem out along one wall and back along the other gives the closed outline: the two walls
+are drawn apart by their measured half-width, so the polygon stays simple.
+
+A stem is told from a stroke of a line drawing (Deery's antlers meet its head at T junctions
+too) by its points: two walls merged into one chain hold twice as many points per length as a
+wall of the cycle (`STEM_DENSITY`), one stroke as many. Only that structure is closed: one
+cycle, each stem a path from it to a dead end, the stems at a node on one side of the cycle;
+anything else (a line drawing's network, two rings joined by a bar) is left as it is.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from scipy.spatial import cKDTree
+
+from ..geometry import nearest_of_segments
+from ..types import FloatArray, IntArray, OrderedContour
+
+#: A piece's end within this many radii of another contour (or of its own far part) meets it
+#: there, a T junction: the march stops up to 2.3 radii short of a slit it meets.
+T_REACH = 3.0
+#: Piece ends within this many radii of each other are one junction (the crossing split puts
+#: them on one point; a T junction found twice lies within it).
+END_REACH = 0.5
+#: A stem holds at least this many times the points per length of its cycle: a uniform
+#: sampling puts twice as many on two merged walls, and as many on one stroke.
+STEM_DENSITY = 1.5
+#: A ring's points are counted in windows of this many radii (some 20 points each on a
+#: uniform sampling of 3 spacings per radius, so that chance varies a count by a fifth)...
+DENSITY_WINDOW = 8.0
+#: ... and the sampling is even when the densest decile of windows holds at most this many
+#: times as many points per length as the sparsest: a scan's uniform sampling, not a laser
+#: map's, whose density falls with the range (there a stem is no sign of two walls).
+EVEN_SAMPLING = 3.0
+#: Half the width between a stem's two walls, in radii: at least this, so that the polygon has
+#: an inside where the walls converge...
+MIN_HALF_WIDTH = 0.05
+#: ... and at most this: the walls were merged because they lie within a radius.
+MAX_HALF_WIDTH = 0.5
+
+
+@dataclass
+class _Edge:
+    """A piece of an open contour between two graph nodes."""
+
+    xy: FloatArray
+    start: int
+    end: int
+    piece: int
+
+
+def close_outlines(contours: list[OrderedContour], points: FloatArray, radius: float, *,
+                   leave: Callable[[OrderedContour], bool] | None = None
+                   ) -> list[OrderedContour]:
+    """Join the open pieces that form one cycle with stems into a closed outline.
+
+    Parameters
+    ----------
+    contours : the ordered contours; only the open ones are read.
+    points : the input points (the contours' members index them).
+    radius : the neighbourhood radius of the ordering.
+    leave : whether a contour is to be left as it is, and every outline it is part of.
+
+    Returns
+    -------
+    The contours, with the open pieces of each such outline replaced by one closed contour
+    that walks each stem out along one wall and back along the other.
+
+    Examples
+    --------
+    A ring with a slit: the march gives a loop whose tail runs down the slit.
+
+    >>> t = np.linspace(0.02, 2 * np.pi - 0.02, 400)
+    >>> ring = np.column_stack([np.cos(t), np.sin(t)])
+    >>> loop = np.vstack([np.linspace([0.5, 0.0], [1.0, 0.0], 11), ring[::10], ring[-1:]])
+    >>> slit = np.column_stack([np.linspace(0.5, 1.0, 80), np.tile([0.01, -0.01], 40)])
+    >>> pts = np.vstack([ring, slit])
+    >>> oc = OrderedContour(loop, False, np.arange(len(pts)))
+    >>> out = close_outlines([oc], pts, 0.05)
+    >>> [c.closed for c in out]
+    [True]
+    """
+    if all(c.closed for c in contours):
+        return contours
+    lines = [np.vstack([c.points, c.points[:1]]) if c.closed else c.points for c in contours]
+    edges, node_xy = _graph(lines, [c.closed for c in contours], radius)
+    closed, used = [], set()
+    for comp in _components(edges, len(node_xy)):
+        taken = sorted({edges[k].piece for k in comp})
+        if all(contours[k].closed for k in taken) or (
+                leave is not None and any(leave(contours[k]) for k in taken)):
+            continue
+        members = np.sort(np.concatenate([contours[k].members for k in taken]))
+        ring = _outline(comp, edges, points[members], radius)
+        if ring is not None:
+            used.update(taken)
+            closed.append(OrderedContour(ring, True, members))
+    if not closed:
+        return contours
+    return [c for k, c in enumerate(contours) if k not in used] + closed
+
+
+def _graph(lines: list[FloatArray], closed: list[bool], radius: float
+           ) -> tuple[list[_Edge], FloatArray]:
+    """Pieces cut at the T junctions that the open ones' ends make, as edges between the
+    clustered end nodes (a closed line starts and ends on one node).
+
+    Each edge remembers its line (``_Edge.xy`` is a stretch of it, the junction points added)."""
+    cuts: list[list[tuple[float, FloatArray]]] = [[] for _ in lines]
+    ends = []
+    geoms = [shapely.LineString(xy) for xy in lines]
+    tree = shapely.STRtree(geoms)
+    for i, xy in enumerate(lines):
+        if closed[i]:
+            continue
+        for e in (0, -1):
+            near = tree.query(shapely.Point(xy[e]), predicate="dwithin",
+                              distance=T_REACH * radius)
+            at = _t_junction(i, xy[e], e, lines, geoms, near, radius)
+            if at is not None:
+                j, s, q = at
+                cuts[j].append((s, q))
+                ends.append((i, e, q))
+    lines = [xy.copy() for xy in lines]
+    for i, e, q in ends:
+        lines[i][e] = q  # the end meets the line it heads into
+    pieces, owner = [], []
+    for i, xy in enumerate(lines):
+        for piece in _cut(xy, cuts[i]):
+            pieces.append(piece)
+            owner.append(i)
+    tips = np.array([p[e] for p in pieces for e in (0, -1)])
+    label = _clusters(tips, END_REACH * radius)
+    node_xy = np.array([tips[label == c].mean(axis=0) for c in range(label.max() + 1)])
+    edges = []
+    for k, (piece, i) in enumerate(zip(pieces, owner)):
+        a, b = label[2 * k], label[2 * k + 1]
+        edges.append(_Edge(np.vstack([node_xy[a], piece[1:-1], node_xy[b]]), int(a), int(b), i))
+    return edges, node_xy
+
+
+def _t_junction(i: int, end: FloatArray, e: int, lines: list[FloatArray],
+                geoms: list[shapely.Geometry], near: IntArray, radius: float
+                ) -> tuple[int, float, FloatArray] | None:
+    """The nearest place within `T_REACH` radii where the end of line ``i`` meets the inside
+    of a line (its own beyond 2 `T_REACH` radii of the end) among the ``near`` ones, as
+    (line, arc length, point)."""
+    best = None
+    p = shapely.Point(end)
+    for j in near:
+        xy, g = lines[j], geoms[j]
+        if j == i:
+            own = _own_far_part(xy, e, 2 * T_REACH * radius)
+            if own is None:
+                continue
+            s0, g = own
+        else:
+            s0 = 0.0
+        d = g.distance(p)
+        if d > T_REACH * radius or (best is not None and d >= best[0]):
+            continue
+        s = g.project(p)
+        length = geoms[j].length
+        s_full = s + s0 if e == 0 or j != i else s
+        if s_full <= END_REACH * radius or s_full >= length - END_REACH * radius:
+            continue  # an end to end junction: the clustering joins those
+        q = np.asarray(g.interpolate(s).coords[0])
+        best = (d, j, s_full, q)
+    return None if best is None else best[1:]
+
+
+def _own_far_part(xy: FloatArray, e: int, skip: float) -> tuple[float, shapely.Geometry] | None:
+    """The part of a piece farther than ``skip`` along it from its end ``e``, and where that
+    part starts (its arc length from the piece's start)."""
+    arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(xy, axis=0), axis=1))])
+    keep = arc >= skip if e == 0 else arc <= arc[-1] - skip
+    if keep.sum() < 2:
+        return None
+    return float(arc[keep][0]), shapely.LineString(xy[keep])
+
+
+def _cut(xy: FloatArray, cuts: list[tuple[float, FloatArray]]) -> list[FloatArray]:
+    """A polyline cut at arc lengths, each cut point ending one piece and starting the next."""
+    if not cuts:
+        return [xy]
+    arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(xy, axis=0), axis=1))])
+    cuts = sorted(cuts, key=lambda c: c[0])
+    bounds = [(-np.inf, xy[0])] + cuts + [(np.inf, xy[-1])]
+    pieces = []
+    for (lo, start), (hi, end) in zip(bounds[:-1], bounds[1:]):
+        inner = xy[(arc > lo) & (arc < hi)]
+        if np.isinf(lo):
+            inner = inner[1:]
+        if np.isinf(hi):
+            inner = inner[:-1]
+        pieces.append(_no_repeats(np.vstack([start[None], inner, end[None]])))
+    return [p for p in pieces if len(p) >= 2]
+
+
+def _no_repeats(xy: FloatArray) -> FloatArray:
+    step = np.linalg.norm(np.diff(xy, axis=0), axis=1)
+    return xy[np.concatenate([[True], step > 0])]
+
+
+def _clusters(xy: FloatArray, reach: float) -> IntArray:
+    """Labels 0.. of the groups of points joined by pairs within ``reach`` (union-find)."""
+    parent = np.arange(len(xy))
+
+    def root(a: int) -> int:
+        while parent[a] != a:
+            parent[a] = parent[parent[a]]
+            a = parent[a]
+        return a
+
+    for a, b in cKDTree(xy).query_pairs(reach):
+        parent[root(a)] = root(b)
+    roots = np.array([root(a) for a in range(len(xy))])
+    return np.unique(roots, return_inverse=True)[1]
+
+
+def _components(edges: list[_Edge], n_nodes: int) -> list[list[int]]:
+    """Edge indices of each connected component of the graph."""
+    if not edges:
+        return []
+    ends = np.array([[e.start, e.end] for e in edges])
+    label = _clusters_of_pairs(ends, n_nodes)
+    comp: dict[int, list[int]] = {}
+    for k, (a, _) in enumerate(ends):
+        comp.setdefault(int(label[a]), []).append(k)
+    return list(comp.values())
+
+
+def _clusters_of_pairs(pairs: IntArray, n: int) -> IntArray:
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+    return connected_components(graph, directed=False)[1]
+
+
+def _bridges(comp: list[int], edges: list[_Edge]) -> set[int]:
+    """Edges of the component whose removal disconnects it (Tarjan, on a multigraph)."""
+    adj: dict[int, list[tuple[int, int]]] = {}
+    for k in comp:
+        adj.setdefault(edges[k].start, []).append((edges[k].end, k))
+        adj.setdefault(edges[k].end, []).append((edges[k].start, k))
+    disc: dict[int, int] = {}
+    low: dict[int, int] = {}
+    bridges: set[int] = set()
+    root = edges[comp[0]].start
+    stack = [(root, -1, iter(adj[root]))]
+    disc[root] = low[root] = 0
+    while stack:
+        v, via, it = stack[-1]
+        for w, k in it:
+            if k == via:
+                continue
+            if w in disc:
+                low[v] = min(low[v], disc[w])
+            else:
+                disc[w] = low[w] = len(disc)
+                stack.append((w, k, iter(adj[w])))
+                break
+        else:
+            stack.pop()
+            if stack:
+                u = stack[-1][0]
+                low[u] = min(low[u], low[v])
+                if low[v] > disc[u]:
+                    bridges.add(via)
+    return bridges
+
+
+def _outline(comp: list[int], edges: list[_Edge], members: FloatArray, radius: float
+             ) -> FloatArray | None:
+    """The closed walk of a component that is one cycle with stems, or None."""
+    stems = _bridges(comp, edges)
+    cycle = [k for k in comp if k not in stems]
+    if not cycle:
+        return None
+    degree: dict[int, int] = {}
+    for k in cycle:
+        for v in (edges[k].start, edges[k].end):
+            degree[v] = degree.get(v, 0) + 1
+    if any(d != 2 for d in degree.values()):
+        return None  # more than one cycle (two rings joined by a bar, a figure eight)
+    walk = _cycle_walk(cycle, edges)
+    if walk is None:
+        return None
+    paths = _stem_paths(stems, edges, set(degree))
+    if paths is None:
+        return None
+    if paths and not _dense_stems(paths, walk, members, radius):
+        return None
+    return _ring_with_stems(walk, paths, members, radius)
+
+
+def _cycle_walk(cycle: list[int], edges: list[_Edge]) -> list[tuple[int, FloatArray]] | None:
+    """The cycle's edges in order, each as (its start node, its polyline along the walk)."""
+    left = set(cycle)
+    k = cycle[0]
+    left.discard(k)
+    walk = [(edges[k].start, edges[k].xy)]
+    at = edges[k].end
+    while left:
+        nxt = next((j for j in left if at in (edges[j].start, edges[j].end)), None)
+        if nxt is None:
+            return None
+        left.discard(nxt)
+        e = edges[nxt]
+        walk.append((at, e.xy if e.start == at else e.xy[::-1]))
+        at = e.end if e.start == at else e.start
+    return walk if at == walk[0][0] else None
+
+
+def _stem_paths(stems: set[int], edges: list[_Edge], on_cycle: set[int]
+                ) -> dict[int, list[FloatArray]] | None:
+    """Each stem as a polyline from its cycle node out to its dead end, by cycle node; None
+    where a stem branches or does not start on the cycle."""
+    adj: dict[int, list[int]] = {}
+    for k in stems:
+        for v in (edges[k].start, edges[k].end):
+            adj.setdefault(v, []).append(k)
+    paths: dict[int, list[FloatArray]] = {}
+    seen: set[int] = set()
+    for v in on_cycle:
+        for k in adj.get(v, []):
+            parts, at = [], v
+            while True:
+                e = edges[k]
+                parts.append(e.xy if e.start == at else e.xy[::-1])
+                seen.add(k)
+                at = e.end if e.start == at else e.start
+                nxt = [j for j in adj.get(at, []) if j != k]
+                if at in on_cycle or len(nxt) > 1:
+                    return None  # a bridge between two cycles, or a branching stem
+                if not nxt:
+                    break
+                k = nxt[0]
+            paths.setdefault(v, []).append(np.vstack([parts[0]] + [p[1:] for p in parts[1:]]))
+    return paths if seen == stems else None
+
+
+def _dense_stems(paths: dict[int, list[FloatArray]], walk: list[tuple[int, FloatArray]],
+                 members: FloatArray, radius: float) -> bool:
+    """Whether the cycle is sampled evenly (`EVEN_SAMPLING`) and every stem holds
+    `STEM_DENSITY` x the points per length of the cycle."""
+    lines = [xy for _, xy in walk] + [p for ps in paths.values() for p in ps]
+    label = np.concatenate([np.full(len(xy) - 1, k) for k, xy in enumerate(lines)])
+    a = np.vstack([xy[:-1] for xy in lines])
+    b = np.vstack([xy[1:] for xy in lines])
+    seg, dist = nearest_of_segments(members, a, b)
+    seg = seg[dist <= radius]
+    count = np.bincount(label[seg], minlength=len(lines))
+    length = np.array([np.linalg.norm(np.diff(xy, axis=0), axis=1).sum() for xy in lines])
+    n_cycle = len(walk)
+    ring_density = count[:n_cycle].sum() / max(length[:n_cycle].sum(), 1e-300)
+    stem_density = count[n_cycle:] / np.maximum(length[n_cycle:], 1e-300)
+    n_ring_segments = int((label < n_cycle).sum())
+    return (_even(seg[seg < n_ring_segments], np.linalg.norm(b - a, axis=1)[:n_ring_segments],
+                  radius)
+            and bool(np.all(stem_density >= STEM_DENSITY * ring_density)))
+
+
+def _even(seg: IntArray, seg_length: FloatArray, radius: float) -> bool:
+    """Whether points spread evenly along a ring: counted in windows of `DENSITY_WINDOW`
+    radii, the densest decile holds at most `EVEN_SAMPLING` x the sparsest."""
+    arc = np.cumsum(seg_length)
+    window = ((arc - seg_length / 2) // (DENSITY_WINDOW * radius)).astype(int)
+    n_windows = int(arc[-1] // (DENSITY_WINDOW * radius))
+    if n_windows < 2:
+        return True
+    window = np.minimum(window, n_windows - 1)  # the last, short window joins the one before
+    count = np.bincount(window[seg], minlength=n_windows)
+    width = np.bincount(window, weights=seg_length, minlength=n_windows)
+    low, high = np.percentile(count / width, [10, 90])
+    return bool(high <= EVEN_SAMPLING * low)
+
+
+def _ring_with_stems(walk: list[tuple[int, FloatArray]], paths: dict[int, list[FloatArray]],
+                     members: FloatArray, radius: float) -> FloatArray | None:
+    """The cycle with each stem walked out and back, its two passes apart by the walls'
+    half-width."""
+    ring = []
+    for i, (v, xy) in enumerate(walk):
+        arriving = walk[i - 1][1]  # ends at v
+        here = paths.get(v, [])
+        if not here:
+            ring.append(xy[:-1])
+            continue
+        excursion = _excursions(arriving[-2] - arriving[-1], xy[1] - xy[0], here, members,
+                                radius)
+        if excursion is None:
+            return None
+        ring.append(excursion)
+        ring.append(xy[1:-1])
+    out = np.vstack([r for r in ring if len(r)])
+    return out if len(out) >= 3 else None
+
+
+def _angle(d: FloatArray) -> float:
+    return float(np.arctan2(d[1], d[0]))
+
+
+def _excursions(back: FloatArray, ahead: FloatArray, stems: list[FloatArray],
+                members: FloatArray, radius: float) -> FloatArray | None:
+    """The passes out and back along each stem at one cycle node, between the edge the walk
+    arrives by (``back``: from the node towards where it came from) and the one it leaves by.
+
+    Measured counter-clockwise from ``back``, stems before ``ahead`` are walked in that order
+    out along their right wall; stems past it, clockwise, out along their left wall. Stems on
+    both sides of the cycle at one node cannot be drawn in one simple pass: None."""
+    a0 = _angle(back)
+    turn = np.mod(_angle(ahead) - a0, 2 * np.pi)
+    rel = [np.mod(_angle(s[1] - s[0]) - a0, 2 * np.pi) for s in stems]
+    ccw = [r < turn for r in rel]
+    if any(ccw) and not all(ccw):
+        return None
+    order = np.argsort(rel) if ccw[0] else np.argsort(rel)[::-1]
+    side = -1.0 if ccw[0] else 1.0  # -1: the right wall (as seen walking out)
+    passes = []
+    for k in order:
+        passes.append(_out_and_back(stems[k], side, members, radius))
+    return np.vstack(passes)
+
+
+def _out_and_back(stem: FloatArray, side: float, members: FloatArray, radius: float
+                  ) -> FloatArray:
+    """A stem from its root to its tip and back, the passes ``side`` x its half-width to
+    either side (the tip once)."""
+    tangent = np.gradient(stem, axis=0)
+    tangent /= np.maximum(np.linalg.norm(tangent, axis=1, keepdims=True), 1e-300)
+    normal = np.column_stack([-tangent[:, 1], tangent[:, 0]])  # left
+    half = _half_widths(stem, normal, members, radius)
+    out = stem[:-1] + side * half[:-1, None] * normal[:-1]
+    back = (stem[:-1] - side * half[:-1, None] * normal[:-1])[::-1]
+    return np.vstack([out, stem[-1:], back])
+
+
+def _half_widths(stem: FloatArray, normal: FloatArray, members: FloatArray, radius: float
+                 ) -> FloatArray:
+    """Half the distance between a stem's walls at each of its points: the median offset of
+    the points within a radius across it, within [`MIN_HALF_WIDTH`, `MAX_HALF_WIDTH`] radii."""
+    tree = cKDTree(members)
+    half = np.full(len(stem), MIN_HALF_WIDTH * radius)
+    for i, near in enumerate(tree.query_ball_point(stem, radius)):
+        if near:
+            off = np.abs((members[near] - stem[i]) @ normal[i])
+            half[i] = np.median(off)
+    return np.clip(half, MIN_HALF_WIDTH * radius, MAX_HALF_WIDTH * radius)

@@ -1,0 +1,117 @@
+"""Closed outlines with stems: slits and thin limbs narrower than the radius keep an outline
+closed (`wavepoly.ordering.stems`), and a line drawing's strokes stay strokes."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import shapely
+from shapely import affinity
+
+import wavepoly
+from wavepoly.ordering.stems import close_outlines
+from wavepoly.samples import sample_rings
+from wavepoly.types import OrderedContour
+
+from .conftest import distance_to_output
+from .truth import independent_problems
+
+EPS = 0.05
+
+
+def _silhouette(slit_half_angle: float, limb_width: float, angle: float) -> shapely.Polygon:
+    """An ellipse with a wedge slit cut into it, and a thin limb standing out of it."""
+    body = affinity.scale(shapely.Point(0, 0).buffer(1.0, 64), 2.0, 1.0)
+    d = np.array([np.cos(angle), np.sin(angle)])
+    n = np.array([-d[1], d[0]])
+    wedge = shapely.Polygon([0.6 * d, 3 * d + 3 * slit_half_angle * n,
+                             3 * d - 3 * slit_half_angle * n])
+    limb = shapely.LineString([-1.5 * d + 0.3 * n, -2.6 * d + 1.0 * n]).buffer(
+        limb_width / 2, 8, cap_style="flat")
+    shape = body.difference(wedge).union(limb)
+    return max(getattr(shape, "geoms", [shape]), key=lambda g: g.area)
+
+
+def _fit(shape: shapely.Polygon, seed: int):
+    ring = np.asarray(shape.exterior.coords)[:-1]
+    pts = sample_rings([ring], spacing=EPS / 3, noise=EPS / 8, seed=seed)
+    return pts, wavepoly.fit(pts, EPS)
+
+
+def _one_closed_outline(pts, result):
+    assert [c.closed for c in result.contours] == [True], result.validity
+    assert independent_problems(result) == []
+    assert len(result.outliers) == 0
+    assert distance_to_output(pts, result).max() <= EPS * (1 + 1e-9)
+
+
+def test_a_slit_and_a_thin_limb_keep_the_outline_closed():
+    shape = _silhouette(0.01, 0.03, 0.4)
+    pts, result = _fit(shape, 1)
+    _one_closed_outline(pts, result)
+    # the outline runs down the slit to its tip and out to the limb's end, not across them
+    drawn = result.to_shapely()
+    assert shapely.hausdorff_distance(drawn.boundary, shape.boundary) <= 1.5 * EPS
+
+
+@pytest.mark.parametrize("slit", [0.008, 0.012])
+@pytest.mark.parametrize("limb", [0.3 * EPS, 0.6 * EPS])
+@pytest.mark.parametrize("angle", [0.4, 1.5, 2.5, 4.0, 5.5])
+def test_slits_and_limbs_in_any_direction_give_one_valid_closed_outline(slit, limb, angle):
+    pts, result = _fit(_silhouette(slit, limb, angle), 1)
+    _one_closed_outline(pts, result)
+
+
+def test_a_stroke_of_a_line_drawing_stays_a_stroke():
+    # a ring and a stroke meeting it at a T, each sampled as densely: a drawing, not a slit
+    t = np.linspace(0, 2 * np.pi, 400, endpoint=False)
+    ring = np.column_stack([np.cos(t), np.sin(t)])
+    stroke = np.linspace([1.0, 0.0], [2.0, 0.0], 40)
+    pts = np.vstack([sample_rings([ring], spacing=EPS / 3, seed=2),
+                     sample_rings([stroke], spacing=EPS / 3, closed=[False], seed=3)])
+    result = wavepoly.fit(pts, EPS)
+    assert independent_problems(result) == []
+    # drawn once (2 pi + 1 long), not out and back as a sliver (2 pi + 2)
+    drawn = sum(shapely.length(shapely.LineString(c.vertices)) for c in result.contours)
+    assert drawn < 2 * np.pi + 1.5
+
+
+def test_a_loop_with_a_tail_down_a_slit_is_walked_out_and_back():
+    t = np.linspace(0.02, 2 * np.pi - 0.02, 400)
+    ring = np.column_stack([np.cos(t), np.sin(t)])
+    loop = np.vstack([np.linspace([0.5, 0.0], [1.0, 0.0], 11), ring[::10], ring[-1:]])
+    slit = np.column_stack([np.linspace(0.5, 1.0, 80), np.tile([0.01, -0.01], 40)])
+    pts = np.vstack([ring, slit])
+    out = close_outlines([OrderedContour(loop, False, np.arange(len(pts)))], pts, 0.05)
+    assert len(out) == 1 and out[0].closed
+    polygon = shapely.Polygon(out[0].points)
+    assert polygon.is_valid
+    # the slit's two passes lie on either side of its middle line, within its half-width
+    xy = out[0].points
+    across = xy[(xy[:, 0] > 0.55) & (xy[:, 0] < 0.95) & (np.abs(xy[:, 1]) < 0.1), 1]
+    assert (across > 0).any() and (across < 0).any()
+    assert np.abs(across).max() <= 0.5 * 0.05 + 1e-12
+    assert np.array_equal(out[0].members, np.arange(len(pts)))
+
+
+def test_two_rings_joined_by_a_bar_are_left_as_they_are():
+    t = np.linspace(0, 2 * np.pi, 60, endpoint=False)
+    left = np.column_stack([np.cos(t) - 2, np.sin(t)])
+    right = np.column_stack([np.cos(t) + 2, np.sin(t)])
+    bar = np.linspace([-1.0, 0.0], [1.0, 0.0], 30)
+    pts = np.vstack([left, right, np.repeat(bar, 3, axis=0)])
+    contours = [OrderedContour(left, True, np.arange(60)),
+                OrderedContour(right, True, np.arange(60, 120)),
+                OrderedContour(bar, False, np.arange(120, 210))]
+    assert close_outlines(contours, pts, 0.1) is contours
+
+
+def test_a_ring_cut_into_two_pieces_becomes_one_ring():
+    t = np.linspace(0, np.pi, 50)
+    upper = np.column_stack([np.cos(t), np.sin(t)])
+    lower = upper[::-1] * [1, -1]
+    pts = np.vstack([upper, lower])
+    contours = [OrderedContour(upper, False, np.arange(50)),
+                OrderedContour(lower, False, np.arange(50, 100))]
+    out = close_outlines(contours, pts, 0.1)
+    assert len(out) == 1 and out[0].closed and shapely.Polygon(out[0].points).is_valid
