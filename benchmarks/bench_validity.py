@@ -163,7 +163,7 @@ def run() -> str:
             "zigzagging across it.\n\n"
             + table(["case", "points", "ε", "closed/open", "right", "invalid", "crossing",
                      "teeth", "outliers", "vertices", "vs covering min-#", "seconds"], rows)
-            + "\n\n" + glyph_sweep())
+            + "\n\n" + glyph_sweep() + "\n\n" + silhouette_sweep())
 
 
 #: The glyph sweep: fonts bundled with matplotlib, and samplings (spacing, noise, ε) of glyphs
@@ -208,3 +208,36 @@ def glyph_sweep() -> str:
 
 if __name__ == "__main__":
     print(run())
+
+
+#: The silhouette sweep: (points, ε as a share of the diagonal, noise as a share of ε).
+SILHOUETTE_SAMPLINGS = ((3000, 1 / 300, 1 / 8), (1000, 1 / 150, 0.0), (1000, 1 / 150, 1 / 4))
+SILHOUETTES = 60
+
+
+def silhouette_sweep() -> str:
+    """Made-up silhouettes with slits and limbs narrower than the tolerance
+    (`benchmarks.silhouettes`), sampled cleanly: each must come out as its rings, closed and
+    valid, with no outliers."""
+    from .silhouettes import sample, silhouette
+
+    truth = _truth()
+    rows = []
+    for n, eps, noise in SILHOUETTE_SAMPLINGS:
+        right = invalid = 0
+        t0 = time.perf_counter()
+        for seed in range(SILHOUETTES):
+            rings = silhouette(seed)
+            res = wavepoly.fit(sample(rings, n, noise * eps, 1000 + seed), eps)
+            problems = truth.independent_problems(res)
+            invalid += bool(problems)
+            right += (not problems and len(res.outliers) == 0
+                      and [c.closed for c in res.contours] == [True] * len(rings))
+        rows.append([n, f"diagonal / {1 / eps:g}", f"{noise:g} ε", f"{right}/{SILHOUETTES}",
+                     invalid, time.perf_counter() - t0])
+    return ("### Silhouette sweep\n\nMade-up silhouettes (`benchmarks/silhouettes.py`): an "
+            "elliptic body with bent limbs, a head, wedge slits cut in "
+            "whose walls run closer than ε for most of their length, sometimes a hole; sampled "
+            "uniformly along the outline. *right*: as many closed outlines as rings, valid, no "
+            "outliers; *invalid*: results that fail the shapely check.\n\n"
+            + table(["points", "ε", "noise", "right", "invalid", "seconds"], rows))

@@ -201,8 +201,9 @@ def _read(pts: FloatArray, radius: float, given: float, seed: int, min_points: i
         notes.append(f"{int((~two_walls).sum())} place(s) where the points spread over a band "
                      "wider than the radius (a thick wall, clutter, or a slice cut along a "
                      "surface)")
+    # a noisy scan's outliers read again are strokes beside its walls, not outlines
     contours, outliers = contours_of(pts, atoms.tree, nodes, chains, absorbed, radius,
-                                     min_points, corner_gap)
+                                     min_points, corner_gap, stems=not again)
     if clean_scan(nodes.noise, radius):  # on a noisy scan such groups are clutter
         islands, outliers = island_contours(outliers, pts, radius, given)
         contours += islands

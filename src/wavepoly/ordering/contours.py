@@ -74,7 +74,8 @@ DENSE_CURVE = 12.0
 
 def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain],
                 absorbed: IntArray, radius: float, min_points: int,
-                corner_gap: float | None = None) -> tuple[list[OrderedContour], IntArray]:
+                corner_gap: float | None = None, stems: bool = True
+                ) -> tuple[list[OrderedContour], IntArray]:
     """Contours from chains of at least ``min_points`` nodes, each with its member points.
 
     A point belongs to the contour of its nearest node among those contours (within
@@ -138,9 +139,9 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
         contours, outliers = extend_tips(contours, outliers, pts, radius, outlier_gap)
     contours = merge_overlapping_rings(swap_crossed_stretches(contours, pts))
     contours = split_at_crossings(contours, pts)
-    # a dense noisy curve is a laser map's: a room's wall and a short wall meeting it are lines
-    contours = close_outlines(contours, pts, radius, leave=lambda c: not clean and _dense(
-        c.points, c.closed, len(c.members), radius))
+    # on a noisy scan (a laser map) a room's wall and a short wall meeting it are lines
+    if stems and clean:
+        contours = close_outlines(contours, pts, radius)
     return contours, outliers
 
 

@@ -1,0 +1,58 @@
+"""Made-up silhouettes for the validity sweep: an elliptic body with limbs of any width (down
+to a fifth of the tolerance), a head, thin wedge slits cut into it and now and then a hole,
+the kind of outline whose walls run closer than the tolerance (`wavepoly.ordering.stems`)."""
+
+from __future__ import annotations
+
+import numpy as np
+import shapely
+from shapely import affinity
+
+
+def silhouette(seed: int) -> list[np.ndarray]:
+    """The rings (outer first, then holes) of silhouette ``seed``, about 1 unit across."""
+    rng = np.random.default_rng(seed)
+    parts = [affinity.scale(shapely.Point(0, 0).buffer(1.0, 64), rng.uniform(1.0, 2.0),
+                            rng.uniform(0.5, 1.0))]
+    for _ in range(rng.integers(0, 7)):  # limbs: bent strokes
+        a = rng.uniform(0, 2 * np.pi)
+        d, start = np.array([np.cos(a), np.sin(a)]), np.array([np.cos(a) * 1.2, np.sin(a) * 0.6])
+        n, length, bend = np.array([-d[1], d[0]]), rng.uniform(0.5, 2.0), rng.uniform(-0.8, 0.8)
+        line = shapely.LineString([start, start + d * length / 2 + n * bend * 0.3,
+                                   start + d * length + n * bend * 0.6])
+        parts.append(line.buffer(rng.uniform(0.04, 0.25), 16,
+                                 cap_style="flat" if seed % 4 == 1 else "round"))
+    if rng.uniform() < 0.7:  # a head
+        parts.append(shapely.Point(rng.uniform(-2.2, 2.2), rng.uniform(0.4, 1.0)).buffer(
+            rng.uniform(0.3, 0.6), 32))
+    shape = shapely.unary_union(parts)
+    if rng.uniform() < 0.5:  # slits: thin wedges cut in
+        for _ in range(rng.integers(1, 4)):
+            a = rng.uniform(0, 2 * np.pi)
+            d = np.array([np.cos(a), np.sin(a)])
+            n = np.array([-d[1], d[0]]) * rng.uniform(0.02, 0.15)
+            shape = shape.difference(shapely.Polygon([d * rng.uniform(0.2, 0.7), 3 * d + n,
+                                                      3 * d - n]))
+    if seed % 4 == 3 and rng.uniform() < 0.6:  # a hole
+        shape = shape.difference(shapely.Point(rng.uniform(-0.5, 0.5), rng.uniform(-0.2, 0.2))
+                                 .buffer(rng.uniform(0.1, 0.3), 32))
+    if shape.geom_type == "MultiPolygon":
+        shape = max(shape.geoms, key=lambda g: g.area)
+    scale = 1.0 / np.hypot(*np.ptp(np.asarray(shape.exterior.coords), axis=0))
+    shape = affinity.scale(shape, scale, scale, origin=(0, 0))
+    return [np.asarray(r.coords)[:-1] for r in (shape.exterior, *shape.interiors)]
+
+
+def sample(rings: list[np.ndarray], n: int, sigma: float, seed: int) -> np.ndarray:
+    """About ``n`` points spread uniformly along the rings, with Gaussian noise ``sigma``."""
+    rng = np.random.default_rng(seed)
+    closed = [np.vstack([r, r[:1]]) for r in rings]
+    arcs = [np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(v, axis=0), axis=1))])
+            for v in closed]
+    total = sum(a[-1] for a in arcs)
+    out = []
+    for v, arc in zip(closed, arcs):
+        s = rng.uniform(0, arc[-1], max(8, round(n * arc[-1] / total)))
+        out.append(np.column_stack([np.interp(s, arc, v[:, 0]), np.interp(s, arc, v[:, 1])]))
+    pts = np.concatenate(out)
+    return pts + rng.normal(0.0, sigma, pts.shape) if sigma > 0 else pts
