@@ -18,15 +18,17 @@ anything else (a line drawing's network, two rings joined by a bar) is left as i
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 import shapely
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from ..geometry import nearest_of_segments
 from ..types import FloatArray, IntArray, OrderedContour
+from .neighbourhoods import point_clusters
 
 #: A piece's end within this many radii of another contour (or of its own far part) meets it
 #: there, a T junction: the march stops up to 2.3 radii short of a slit it meets.
@@ -61,8 +63,7 @@ class _Edge:
     piece: int
 
 
-def close_outlines(contours: list[OrderedContour], points: FloatArray, radius: float, *,
-                   leave: Callable[[OrderedContour], bool] | None = None
+def close_outlines(contours: list[OrderedContour], points: FloatArray, radius: float
                    ) -> list[OrderedContour]:
     """Join the open pieces that form one cycle with stems into a closed outline.
 
@@ -71,7 +72,6 @@ def close_outlines(contours: list[OrderedContour], points: FloatArray, radius: f
     contours : the ordered contours; only the open ones are read.
     points : the input points (the contours' members index them).
     radius : the neighbourhood radius of the ordering.
-    leave : whether a contour is to be left as it is, and every outline it is part of.
 
     Returns
     -------
@@ -99,8 +99,7 @@ def close_outlines(contours: list[OrderedContour], points: FloatArray, radius: f
     closed, used = [], set()
     for comp in _components(edges, len(node_xy)):
         taken = sorted({edges[k].piece for k in comp})
-        if all(contours[k].closed for k in taken) or (
-                leave is not None and any(leave(contours[k]) for k in taken)):
+        if all(contours[k].closed for k in taken):
             continue
         members = np.sort(np.concatenate([contours[k].members for k in taken]))
         ring = _outline(comp, edges, points[members], radius)
@@ -142,7 +141,7 @@ def _graph(lines: list[FloatArray], closed: list[bool], radius: float
             pieces.append(piece)
             owner.append(i)
     tips = np.array([p[e] for p in pieces for e in (0, -1)])
-    label = _clusters(tips, END_REACH * radius)
+    label = point_clusters(tips, END_REACH * radius)
     node_xy = np.array([tips[label == c].mean(axis=0) for c in range(label.max() + 1)])
     edges = []
     for k, (piece, i) in enumerate(zip(pieces, owner)):
@@ -214,40 +213,17 @@ def _no_repeats(xy: FloatArray) -> FloatArray:
     return xy[np.concatenate([[True], step > 0])]
 
 
-def _clusters(xy: FloatArray, reach: float) -> IntArray:
-    """Labels 0.. of the groups of points joined by pairs within ``reach`` (union-find)."""
-    parent = np.arange(len(xy))
-
-    def root(a: int) -> int:
-        while parent[a] != a:
-            parent[a] = parent[parent[a]]
-            a = parent[a]
-        return a
-
-    for a, b in cKDTree(xy).query_pairs(reach):
-        parent[root(a)] = root(b)
-    roots = np.array([root(a) for a in range(len(xy))])
-    return np.unique(roots, return_inverse=True)[1]
-
-
 def _components(edges: list[_Edge], n_nodes: int) -> list[list[int]]:
     """Edge indices of each connected component of the graph."""
     if not edges:
         return []
     ends = np.array([[e.start, e.end] for e in edges])
-    label = _clusters_of_pairs(ends, n_nodes)
+    graph = coo_matrix((np.ones(len(ends)), (ends[:, 0], ends[:, 1])), shape=(n_nodes, n_nodes))
+    label = connected_components(graph, directed=False)[1]
     comp: dict[int, list[int]] = {}
     for k, (a, _) in enumerate(ends):
         comp.setdefault(int(label[a]), []).append(k)
     return list(comp.values())
-
-
-def _clusters_of_pairs(pairs: IntArray, n: int) -> IntArray:
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-
-    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
-    return connected_components(graph, directed=False)[1]
 
 
 def _bridges(comp: list[int], edges: list[_Edge]) -> set[int]:
@@ -304,7 +280,7 @@ def _outline(comp: list[int], edges: list[_Edge], members: FloatArray, radius: f
         return None
     if paths and not _dense_stems(paths, walk, members, radius):
         return None
-    return _ring_with_stems(walk, paths, members, radius)
+    return _ring_with_stems(walk, paths, cKDTree(members), radius)
 
 
 def _cycle_walk(cycle: list[int], edges: list[_Edge]) -> list[tuple[int, FloatArray]] | None:
@@ -390,7 +366,7 @@ def _even(seg: IntArray, seg_length: FloatArray, radius: float) -> bool:
 
 
 def _ring_with_stems(walk: list[tuple[int, FloatArray]], paths: dict[int, list[FloatArray]],
-                     members: FloatArray, radius: float) -> FloatArray | None:
+                     members: cKDTree, radius: float) -> FloatArray | None:
     """The cycle with each stem walked out and back, its two passes apart by the walls'
     half-width."""
     ring = []
@@ -415,7 +391,7 @@ def _angle(d: FloatArray) -> float:
 
 
 def _excursions(back: FloatArray, ahead: FloatArray, stems: list[FloatArray],
-                members: FloatArray, radius: float) -> FloatArray | None:
+                members: cKDTree, radius: float) -> FloatArray | None:
     """The passes out and back along each stem at one cycle node, between the edge the walk
     arrives by (``back``: from the node towards where it came from) and the one it leaves by.
 
@@ -436,7 +412,7 @@ def _excursions(back: FloatArray, ahead: FloatArray, stems: list[FloatArray],
     return np.vstack(passes)
 
 
-def _out_and_back(stem: FloatArray, side: float, members: FloatArray, radius: float
+def _out_and_back(stem: FloatArray, side: float, members: cKDTree, radius: float
                   ) -> FloatArray:
     """A stem from its root to its tip and back, the passes ``side`` x its half-width to
     either side (the tip once)."""
@@ -449,14 +425,13 @@ def _out_and_back(stem: FloatArray, side: float, members: FloatArray, radius: fl
     return np.vstack([out, stem[-1:], back])
 
 
-def _half_widths(stem: FloatArray, normal: FloatArray, members: FloatArray, radius: float
+def _half_widths(stem: FloatArray, normal: FloatArray, members: cKDTree, radius: float
                  ) -> FloatArray:
     """Half the distance between a stem's walls at each of its points: the median offset of
     the points within a radius across it, within [`MIN_HALF_WIDTH`, `MAX_HALF_WIDTH`] radii."""
-    tree = cKDTree(members)
     half = np.full(len(stem), MIN_HALF_WIDTH * radius)
-    for i, near in enumerate(tree.query_ball_point(stem, radius)):
+    for i, near in enumerate(members.query_ball_point(stem, radius)):
         if near:
-            off = np.abs((members[near] - stem[i]) @ normal[i])
+            off = np.abs((members.data[near] - stem[i]) @ normal[i])
             half[i] = np.median(off)
     return np.clip(half, MIN_HALF_WIDTH * radius, MAX_HALF_WIDTH * radius)
