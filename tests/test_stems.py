@@ -115,3 +115,9 @@ def test_a_ring_cut_into_two_pieces_becomes_one_ring():
                 OrderedContour(lower, False, np.arange(50, 100))]
     out = close_outlines(contours, pts, 0.1)
     assert len(out) == 1 and out[0].closed and shapely.Polygon(out[0].points).is_valid
+
+
+def test_a_stem_leaving_the_cycle_at_a_shallow_angle_does_not_cross_it():
+    # found by hypothesis: the slit's first pass crossed the edge the walk arrived by
+    pts, result = _fit(_silhouette(0.0078125, 0.03125, 4.0), 0)
+    _one_closed_outline(pts, result)

@@ -29,6 +29,7 @@ from scipy.spatial import cKDTree
 from ..geometry import nearest_of_segments
 from ..types import FloatArray, IntArray, OrderedContour
 from .neighbourhoods import point_clusters
+from .untangle import crossing_edges, untangle
 
 #: A piece's end within this many radii of another contour (or of its own far part) meets it
 #: there, a T junction: the march stops up to 2.3 radii short of a slit it meets.
@@ -39,6 +40,12 @@ END_REACH = 0.5
 #: A stem holds at least this many times the points per length of its cycle: a uniform
 #: sampling puts twice as many on two merged walls, and as many on one stroke.
 STEM_DENSITY = 1.5
+#: Where a stem leaves the cycle at a shallow angle, its first pass may cross the edge the walk
+#: arrived by, a few times on each side: up to this many crossings are untangled (2-opt); a walk
+#: with more is left to the fit as it is.
+STEM_CROSSINGS = 4
+#: ... each within this many radii of a stem's root.
+ROOT_REACH = 2.0
 #: A ring's points are counted in windows of this many radii (some 20 points each on a
 #: uniform sampling of 3 spacings per radius, so that chance varies a count by a fifth)...
 DENSITY_WINDOW = 8.0
@@ -368,7 +375,7 @@ def _even(seg: IntArray, seg_length: FloatArray, radius: float) -> bool:
 def _ring_with_stems(walk: list[tuple[int, FloatArray]], paths: dict[int, list[FloatArray]],
                      members: cKDTree, radius: float) -> FloatArray | None:
     """The cycle with each stem walked out and back, its two passes apart by the walls'
-    half-width."""
+    half-width (`_untangled_at_roots` where a pass crosses the cycle by a stem's root)."""
     ring = []
     for i, (v, xy) in enumerate(walk):
         arriving = walk[i - 1][1]  # ends at v
@@ -383,7 +390,27 @@ def _ring_with_stems(walk: list[tuple[int, FloatArray]], paths: dict[int, list[F
         ring.append(excursion)
         ring.append(xy[1:-1])
     out = np.vstack([r for r in ring if len(r)])
-    return out if len(out) >= 3 else None
+    if len(out) < 3:
+        return None
+    return _untangled_at_roots(out, [xy[0] for v, xy in walk if v in paths], radius)
+
+
+def _untangled_at_roots(ring: FloatArray, roots: list[FloatArray], radius: float
+                        ) -> FloatArray:
+    """The ring, untangled (2-opt) where a stem's first pass crosses the cycle by its root: at
+    most `STEM_CROSSINGS` crossings, each edge with an end within `ROOT_REACH` radii of a
+    root, and a simple polygon after. Any other crossing is left to the fit, whose selection
+    keeps clear of crossing chords (a blanket untangling scrambled the band of a shallow face
+    on a slice)."""
+    crossings = crossing_edges(ring, True)
+    if not len(crossings) or len(crossings) > STEM_CROSSINGS or not roots:
+        return ring
+    edge, tree = crossings.ravel(), cKDTree(roots)
+    gap = np.minimum(tree.query(ring[edge])[0], tree.query(ring[(edge + 1) % len(ring)])[0])
+    if gap.max() > ROOT_REACH * radius:
+        return ring
+    mended = untangle(ring, True)
+    return mended if shapely.Polygon(mended).is_valid else ring
 
 
 def _angle(d: FloatArray) -> float:
