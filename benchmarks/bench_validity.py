@@ -211,33 +211,39 @@ if __name__ == "__main__":
 
 
 #: The silhouette sweep: (points, ε as a share of the diagonal, noise as a share of ε).
-SILHOUETTE_SAMPLINGS = ((3000, 1 / 300, 1 / 8), (1000, 1 / 150, 0.0), (1000, 1 / 150, 1 / 4))
+#: (bitmap pixels across the diagonal or None for the exact outline, points, ε, noise in ε)
+SILHOUETTE_SAMPLINGS = ((None, 3000, 1 / 300, 1 / 8), (None, 1000, 1 / 150, 0.0),
+                        (None, 1000, 1 / 150, 1 / 4), (300, 3000, 1 / 150, 1 / 8),
+                        (200, 2000, 1 / 100, 1 / 4))
 SILHOUETTES = 60
 
 
 def silhouette_sweep() -> str:
     """Made-up silhouettes with slits and limbs narrower than the tolerance
-    (`benchmarks.silhouettes`), sampled cleanly: each must come out as its rings, closed and
-    valid, with no outliers."""
-    from .silhouettes import sample, silhouette
+    (`benchmarks.silhouettes`), exact or traced from a bitmap, sampled uniformly: each must
+    come out as its rings, closed and valid, with no outliers."""
+    from .silhouettes import bitmap, sample, silhouette
 
     truth = _truth()
     rows = []
-    for n, eps, noise in SILHOUETTE_SAMPLINGS:
+    for pixels, n, eps, noise in SILHOUETTE_SAMPLINGS:
         right = invalid = 0
         t0 = time.perf_counter()
         for seed in range(SILHOUETTES):
-            rings = silhouette(seed)
+            rings = silhouette(seed) if pixels is None else bitmap(silhouette(seed), pixels)
             res = wavepoly.fit(sample(rings, n, noise * eps, 1000 + seed), eps)
             problems = truth.independent_problems(res)
             invalid += bool(problems)
             right += (not problems and len(res.outliers) == 0
                       and [c.closed for c in res.contours] == [True] * len(rings))
-        rows.append([n, f"diagonal / {1 / eps:g}", f"{noise:g} ε", f"{right}/{SILHOUETTES}",
+        rows.append(["exact" if pixels is None else f"bitmap {pixels} px", n,
+                     f"diagonal / {1 / eps:g}", f"{noise:g} ε", f"{right}/{SILHOUETTES}",
                      invalid, time.perf_counter() - t0])
     return ("### Silhouette sweep\n\nMade-up silhouettes (`benchmarks/silhouettes.py`): an "
             "elliptic body with bent limbs, a head, wedge slits cut in "
             "whose walls run closer than ε for most of their length, sometimes a hole; sampled "
-            "uniformly along the outline. *right*: as many closed outlines as rings, valid, no "
-            "outliers; *invalid*: results that fail the shapely check.\n\n"
-            + table(["points", "ε", "noise", "right", "invalid", "seconds"], rows))
+            "uniformly along the outline, exact or as a bitmap's traced outline (staircase "
+            "walls, spurs and notches a pixel wide, as a silhouette image gives them). *right*: "
+            "as many closed outlines as rings, valid, no outliers; *invalid*: results that fail "
+            "the shapely check.\n\n"
+            + table(["outline", "points", "ε", "noise", "right", "invalid", "seconds"], rows))

@@ -56,3 +56,26 @@ def sample(rings: list[np.ndarray], n: int, sigma: float, seed: int) -> np.ndarr
         out.append(np.column_stack([np.interp(s, arc, v[:, 0]), np.interp(s, arc, v[:, 1])]))
     pts = np.concatenate(out)
     return pts + rng.normal(0.0, sigma, pts.shape) if sigma > 0 else pts
+
+
+def bitmap(rings: list[np.ndarray], pixels: int) -> list[np.ndarray]:
+    """The rings as a bitmap's traced outline, ``pixels`` across the diagonal: staircase walls,
+    spurs and notches one pixel wide, as a silhouette image's contour gives them (rings that
+    enclose fewer than `BITMAP_MIN_AREA` pixels are left out)."""
+    import contourpy
+
+    shape = shapely.Polygon(rings[0], rings[1:])
+    lo, hi = np.min(rings[0], axis=0), np.max(rings[0], axis=0)
+    step = np.hypot(*(hi - lo)) / pixels
+    x = np.arange(lo[0] - 2 * step, hi[0] + 2 * step, step)
+    y = np.arange(lo[1] - 2 * step, hi[1] + 2 * step, step)
+    gx, gy = np.meshgrid(x, y)
+    image = shapely.contains_xy(shape, gx, gy).astype(float)
+    lines = contourpy.contour_generator(x, y, image).lines(0.5)
+    traced = [line[:-1] for line in lines
+              if abs(shapely.Polygon(line).area) >= BITMAP_MIN_AREA * step ** 2]
+    return sorted(traced, key=lambda r: -abs(shapely.Polygon(r).area))
+
+
+#: Traced rings smaller than this many pixels are specks of the rasterizing, not outlines.
+BITMAP_MIN_AREA = 20

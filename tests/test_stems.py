@@ -121,3 +121,43 @@ def test_a_stem_leaving_the_cycle_at_a_shallow_angle_does_not_cross_it():
     # found by hypothesis: the slit's first pass crossed the edge the walk arrived by
     pts, result = _fit(_silhouette(0.0078125, 0.03125, 4.0), 0)
     _one_closed_outline(pts, result)
+
+
+def test_a_chord_inside_a_ring_beside_its_wall_is_left_out_of_the_outline():
+    # where a slit's tip is, the chains may cross and leave a chord beside a wall: the ring
+    # and the chord enclose two faces, and the outline is the region's boundary
+    t = np.linspace(0, 2 * np.pi, 600, endpoint=False)
+    pts = np.column_stack([np.cos(t), np.sin(t)])
+    u = np.linspace(np.pi / 3, 2 * np.pi / 3, 20)
+    chord = 0.97 * np.column_stack([np.cos(u), np.sin(u)])
+    pieces = [OrderedContour(np.vstack([pts[:300:5], pts[300:301]]), False, np.arange(300)),
+              OrderedContour(np.vstack([pts[300::5], pts[:1]]), False, np.arange(300, 600)),
+              OrderedContour(chord, False, np.arange(0))]
+    out = close_outlines(pieces, pts, 0.05)
+    assert [c.closed for c in out] == [True]
+    assert shapely.Polygon(out[0].points).is_valid
+    assert np.abs(np.linalg.norm(out[0].points, axis=1) - 1).max() < 1e-3  # the chord: 0.97
+
+
+def test_a_chord_far_from_the_ring_keeps_its_points_and_the_pieces_open():
+    # a stroke across the middle of a ring (a line drawing's network) is not left out
+    t = np.linspace(0, 2 * np.pi, 600, endpoint=False)
+    ring = np.column_stack([np.cos(t), np.sin(t)])
+    bar = np.column_stack([np.linspace(-1, 1, 200), np.zeros(200)])
+    pts = np.vstack([ring, bar])
+    pieces = [OrderedContour(np.vstack([ring[:300:5], ring[300:301]]), False, np.arange(300)),
+              OrderedContour(np.vstack([ring[300::5], ring[:1]]), False, np.arange(300, 600)),
+              OrderedContour(bar[::5], False, np.arange(600, 800))]
+    out = close_outlines(pieces, pts, 0.05)
+    assert not any(c.closed for c in out)
+
+
+def test_a_ring_in_two_pieces_whose_ends_stop_apart_becomes_one_ring():
+    # where a slit's walls converge the march stops on both, its ends two radii apart
+    t = np.linspace(0, 2 * np.pi, 600, endpoint=False)
+    pts = np.column_stack([np.cos(t), np.sin(t)])
+    pieces = [OrderedContour(pts[5:296:5], False, np.arange(300)),
+              OrderedContour(pts[305:596:5], False, np.arange(300, 600))]
+    out = close_outlines(pieces, pts, 0.05)
+    assert [c.closed for c in out] == [True]
+    assert shapely.Polygon(out[0].points).is_valid

@@ -14,6 +14,7 @@ from scipy.spatial import cKDTree
 
 from ..geometry import nearest_segment, nearest_site, polyline_length
 from ..types import Chain, FloatArray, IntArray, OrderedContour
+from .gaps import close_gaps
 from .marching import CORNER_TURN, turning
 from .neighbourhoods import Nodes
 from .stems import close_outlines
@@ -141,7 +142,7 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
     contours = split_at_crossings(contours, pts)
     # on a noisy scan (a laser map) a room's wall and a short wall meeting it are lines
     if stems and clean:
-        contours = close_outlines(contours, pts, radius)
+        contours = close_gaps(close_outlines(contours, pts, radius), pts, radius)
     return contours, outliers
 
 

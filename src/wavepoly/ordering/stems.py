@@ -18,25 +18,15 @@ anything else (a line drawing's network, two rings joined by a bar) is left as i
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 import shapely
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
-from ..geometry import nearest_of_segments
+from ..geometry import nearest_of_segments, polyline_distance
 from ..types import FloatArray, IntArray, OrderedContour
-from .neighbourhoods import point_clusters
+from .piece_graph import Edge, bridges, components, degrees, outer_edges, piece_graph
 from .untangle import crossing_edges, untangle
 
-#: A piece's end within this many radii of another contour (or of its own far part) meets it
-#: there, a T junction: the march stops up to 2.3 radii short of a slit it meets.
-T_REACH = 3.0
-#: Piece ends within this many radii of each other are one junction (the crossing split puts
-#: them on one point; a T junction found twice lies within it).
-END_REACH = 0.5
 #: A stem holds at least this many times the points per length of its cycle: a uniform
 #: sampling puts twice as many on two merged walls, and as many on one stroke.
 STEM_DENSITY = 1.5
@@ -53,21 +43,14 @@ DENSITY_WINDOW = 8.0
 #: times as many points per length as the sparsest: a scan's uniform sampling, not a laser
 #: map's, whose density falls with the range (there a stem is no sign of two walls).
 EVEN_SAMPLING = 3.0
+#: The points of an edge inside the region (left out of the outline) must lie within this many
+#: radii of the outline: a chord where a slit tip's chains crossed runs beside its walls.
+INNER_REACH = 2.0
 #: Half the width between a stem's two walls, in radii: at least this, so that the polygon has
 #: an inside where the walls converge...
 MIN_HALF_WIDTH = 0.05
 #: ... and at most this: the walls were merged because they lie within a radius.
 MAX_HALF_WIDTH = 0.5
-
-
-@dataclass
-class _Edge:
-    """A piece of an open contour between two graph nodes."""
-
-    xy: FloatArray
-    start: int
-    end: int
-    piece: int
 
 
 def close_outlines(contours: list[OrderedContour], points: FloatArray, radius: float
@@ -102,9 +85,9 @@ def close_outlines(contours: list[OrderedContour], points: FloatArray, radius: f
     if all(c.closed for c in contours):
         return contours
     lines = [np.vstack([c.points, c.points[:1]]) if c.closed else c.points for c in contours]
-    edges, node_xy = _graph(lines, [c.closed for c in contours], radius)
+    edges, node_xy = piece_graph(lines, [c.closed for c in contours], radius)
     closed, used = [], set()
-    for comp in _components(edges, len(node_xy)):
+    for comp in components(edges, len(node_xy)):
         taken = sorted({edges[k].piece for k in comp})
         if all(contours[k].closed for k in taken):
             continue
@@ -118,167 +101,20 @@ def close_outlines(contours: list[OrderedContour], points: FloatArray, radius: f
     return [c for k, c in enumerate(contours) if k not in used] + closed
 
 
-def _graph(lines: list[FloatArray], closed: list[bool], radius: float
-           ) -> tuple[list[_Edge], FloatArray]:
-    """Pieces cut at the T junctions that the open ones' ends make, as edges between the
-    clustered end nodes (a closed line starts and ends on one node).
-
-    Each edge remembers its line (``_Edge.xy`` is a stretch of it, the junction points added)."""
-    cuts: list[list[tuple[float, FloatArray]]] = [[] for _ in lines]
-    ends = []
-    geoms = [shapely.LineString(xy) for xy in lines]
-    tree = shapely.STRtree(geoms)
-    for i, xy in enumerate(lines):
-        if closed[i]:
-            continue
-        for e in (0, -1):
-            near = tree.query(shapely.Point(xy[e]), predicate="dwithin",
-                              distance=T_REACH * radius)
-            at = _t_junction(i, xy[e], e, lines, geoms, near, radius)
-            if at is not None:
-                j, s, q = at
-                cuts[j].append((s, q))
-                ends.append((i, e, q))
-    lines = [xy.copy() for xy in lines]
-    for i, e, q in ends:
-        lines[i][e] = q  # the end meets the line it heads into
-    pieces, owner = [], []
-    for i, xy in enumerate(lines):
-        for piece in _cut(xy, cuts[i]):
-            pieces.append(piece)
-            owner.append(i)
-    tips = np.array([p[e] for p in pieces for e in (0, -1)])
-    label = point_clusters(tips, END_REACH * radius)
-    node_xy = np.array([tips[label == c].mean(axis=0) for c in range(label.max() + 1)])
-    edges = []
-    for k, (piece, i) in enumerate(zip(pieces, owner)):
-        a, b = label[2 * k], label[2 * k + 1]
-        edges.append(_Edge(np.vstack([node_xy[a], piece[1:-1], node_xy[b]]), int(a), int(b), i))
-    return edges, node_xy
-
-
-def _t_junction(i: int, end: FloatArray, e: int, lines: list[FloatArray],
-                geoms: list[shapely.Geometry], near: IntArray, radius: float
-                ) -> tuple[int, float, FloatArray] | None:
-    """The nearest place within `T_REACH` radii where the end of line ``i`` meets the inside
-    of a line (its own beyond 2 `T_REACH` radii of the end) among the ``near`` ones, as
-    (line, arc length, point)."""
-    best = None
-    p = shapely.Point(end)
-    for j in near:
-        xy, g = lines[j], geoms[j]
-        if j == i:
-            own = _own_far_part(xy, e, 2 * T_REACH * radius)
-            if own is None:
-                continue
-            s0, g = own
-        else:
-            s0 = 0.0
-        d = g.distance(p)
-        if d > T_REACH * radius or (best is not None and d >= best[0]):
-            continue
-        s = g.project(p)
-        length = geoms[j].length
-        s_full = s + s0 if e == 0 or j != i else s
-        if s_full <= END_REACH * radius or s_full >= length - END_REACH * radius:
-            continue  # an end to end junction: the clustering joins those
-        q = np.asarray(g.interpolate(s).coords[0])
-        best = (d, j, s_full, q)
-    return None if best is None else best[1:]
-
-
-def _own_far_part(xy: FloatArray, e: int, skip: float) -> tuple[float, shapely.Geometry] | None:
-    """The part of a piece farther than ``skip`` along it from its end ``e``, and where that
-    part starts (its arc length from the piece's start)."""
-    arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(xy, axis=0), axis=1))])
-    keep = arc >= skip if e == 0 else arc <= arc[-1] - skip
-    if keep.sum() < 2:
-        return None
-    return float(arc[keep][0]), shapely.LineString(xy[keep])
-
-
-def _cut(xy: FloatArray, cuts: list[tuple[float, FloatArray]]) -> list[FloatArray]:
-    """A polyline cut at arc lengths, each cut point ending one piece and starting the next."""
-    if not cuts:
-        return [xy]
-    arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(xy, axis=0), axis=1))])
-    cuts = sorted(cuts, key=lambda c: c[0])
-    bounds = [(-np.inf, xy[0])] + cuts + [(np.inf, xy[-1])]
-    pieces = []
-    for (lo, start), (hi, end) in zip(bounds[:-1], bounds[1:]):
-        inner = xy[(arc > lo) & (arc < hi)]
-        if np.isinf(lo):
-            inner = inner[1:]
-        if np.isinf(hi):
-            inner = inner[:-1]
-        pieces.append(_no_repeats(np.vstack([start[None], inner, end[None]])))
-    return [p for p in pieces if len(p) >= 2]
-
-
-def _no_repeats(xy: FloatArray) -> FloatArray:
-    step = np.linalg.norm(np.diff(xy, axis=0), axis=1)
-    return xy[np.concatenate([[True], step > 0])]
-
-
-def _components(edges: list[_Edge], n_nodes: int) -> list[list[int]]:
-    """Edge indices of each connected component of the graph."""
-    if not edges:
-        return []
-    ends = np.array([[e.start, e.end] for e in edges])
-    graph = coo_matrix((np.ones(len(ends)), (ends[:, 0], ends[:, 1])), shape=(n_nodes, n_nodes))
-    label = connected_components(graph, directed=False)[1]
-    comp: dict[int, list[int]] = {}
-    for k, (a, _) in enumerate(ends):
-        comp.setdefault(int(label[a]), []).append(k)
-    return list(comp.values())
-
-
-def _bridges(comp: list[int], edges: list[_Edge]) -> set[int]:
-    """Edges of the component whose removal disconnects it (Tarjan, on a multigraph)."""
-    adj: dict[int, list[tuple[int, int]]] = {}
-    for k in comp:
-        adj.setdefault(edges[k].start, []).append((edges[k].end, k))
-        adj.setdefault(edges[k].end, []).append((edges[k].start, k))
-    disc: dict[int, int] = {}
-    low: dict[int, int] = {}
-    bridges: set[int] = set()
-    root = edges[comp[0]].start
-    stack = [(root, -1, iter(adj[root]))]
-    disc[root] = low[root] = 0
-    while stack:
-        v, via, it = stack[-1]
-        for w, k in it:
-            if k == via:
-                continue
-            if w in disc:
-                low[v] = min(low[v], disc[w])
-            else:
-                disc[w] = low[w] = len(disc)
-                stack.append((w, k, iter(adj[w])))
-                break
-        else:
-            stack.pop()
-            if stack:
-                u = stack[-1][0]
-                low[u] = min(low[u], low[v])
-                if low[v] > disc[u]:
-                    bridges.add(via)
-    return bridges
-
-
-def _outline(comp: list[int], edges: list[_Edge], members: FloatArray, radius: float
+def _outline(comp: list[int], edges: list[Edge], members: FloatArray, radius: float
              ) -> FloatArray | None:
     """The closed walk of a component that is one cycle with stems, or None."""
-    stems = _bridges(comp, edges)
+    stems = bridges(comp, edges)
     cycle = [k for k in comp if k not in stems]
     if not cycle:
         return None
-    degree: dict[int, int] = {}
-    for k in cycle:
-        for v in (edges[k].start, edges[k].end):
-            degree[v] = degree.get(v, 0) + 1
+    degree = degrees(cycle, edges)
+    inner: list[int] = []
     if any(d != 2 for d in degree.values()):
-        return None  # more than one cycle (two rings joined by a bar, a figure eight)
+        cycle, inner = outer_edges(cycle, edges)
+        degree = degrees(cycle, edges)
+        if not cycle or any(d != 2 for d in degree.values()):
+            return None  # more than one ring (two rings joined by a bar, a figure eight)
     walk = _cycle_walk(cycle, edges)
     if walk is None:
         return None
@@ -287,10 +123,24 @@ def _outline(comp: list[int], edges: list[_Edge], members: FloatArray, radius: f
         return None
     if paths and not _dense_stems(paths, walk, members, radius):
         return None
-    return _ring_with_stems(walk, paths, cKDTree(members), radius)
+    ring = _ring_with_stems(walk, paths, cKDTree(members), radius)
+    if ring is None or not inner:
+        return ring
+    return ring if _inner_covered(ring, inner, edges, members, radius) else None
 
 
-def _cycle_walk(cycle: list[int], edges: list[_Edge]) -> list[tuple[int, FloatArray]] | None:
+def _inner_covered(ring: FloatArray, inner: list[int], edges: list[Edge], members: FloatArray,
+                   radius: float) -> bool:
+    """Whether the ring is a simple polygon within `INNER_REACH` radii of every member nearer
+    the inner edges it leaves out than the ring."""
+    if not shapely.Polygon(ring).is_valid:
+        return False
+    to_ring = polyline_distance(members, ring, True)
+    to_inner = np.min([polyline_distance(members, edges[k].xy, False) for k in inner], axis=0)
+    return bool(np.all(to_ring[to_inner < to_ring] <= INNER_REACH * radius))
+
+
+def _cycle_walk(cycle: list[int], edges: list[Edge]) -> list[tuple[int, FloatArray]] | None:
     """The cycle's edges in order, each as (its start node, its polyline along the walk)."""
     left = set(cycle)
     k = cycle[0]
@@ -308,7 +158,7 @@ def _cycle_walk(cycle: list[int], edges: list[_Edge]) -> list[tuple[int, FloatAr
     return walk if at == walk[0][0] else None
 
 
-def _stem_paths(stems: set[int], edges: list[_Edge], on_cycle: set[int]
+def _stem_paths(stems: set[int], edges: list[Edge], on_cycle: set[int]
                 ) -> dict[int, list[FloatArray]] | None:
     """Each stem as a polyline from its cycle node out to its dead end, by cycle node; None
     where a stem branches or does not start on the cycle."""

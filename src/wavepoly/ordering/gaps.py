@@ -1,0 +1,113 @@
+"""Closing an outline that the march left open across a short gap its points fill.
+
+On a clean scan a silhouette's outline is one closed curve, but the march can stop a few radii
+short of closing it: at a spur of a bitmap's outline one pixel wide (its two walls merge into a
+chain whose tip is a dead end), or where the outline's last stretch runs beside a stretch the
+march took before. The chain then comes out open, its two ends a few radii apart, and the gap
+between them is not empty: the outline's points run across it. A stroke of a line drawing
+whose ends come close (a C) has nothing between its ends, and stays open.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import shapely
+from scipy.spatial import cKDTree
+
+from ..geometry import polyline_distance, polyline_length
+from ..types import FloatArray, OrderedContour
+from .untangle import untangle
+
+#: An open piece closes across a gap of at most this many radii (the march stops up to some 6
+#: radii short where a spur's merged walls end it)...
+GAP_REACH = 8.0
+#: ... when it is at least this many times as long as the gap: the two ends of a short curved
+#: stroke lie near each other too.
+GAP_LENGTH = 10.0
+#: The gap is filled when a point lies within this many radii of every sample along it (the
+#: gap may cut a corner of the outline it runs across); a stroke's ends facing across an empty
+#: gap leave its middle bare: the march joins ends up to 4 radii apart, so a gap left open
+#: is wider than 2 of these.
+GAP_SUPPORT = 1.0
+#: Samples along the gap this many radii apart.
+GAP_STEP = 0.5
+
+
+def close_gaps(contours: list[OrderedContour], points: FloatArray, radius: float
+               ) -> list[OrderedContour]:
+    """Close each open piece whose ends lie across a short gap that its points fill.
+
+    The closed ring keeps the piece's points; where the closing edge crosses the piece near
+    the gap, the crossing is untangled (2-opt). A piece closes only when the ring is a valid
+    polygon, crosses no other contour and keeps every member as near as the open piece did
+    (or within a radius).
+
+    Parameters
+    ----------
+    contours : the ordered contours; only the open ones are read.
+    points : the input points (the contours' members index them).
+    radius : the neighbourhood radius of the ordering.
+
+    Returns
+    -------
+    The contours, those that closed now closed.
+
+    Examples
+    --------
+    A ring the march left open 4 radii short of its start; its points fill the gap.
+
+    >>> t = np.linspace(0, 2 * np.pi, 600, endpoint=False)
+    >>> pts = np.column_stack([np.cos(t), np.sin(t)])
+    >>> piece = OrderedContour(pts[:-6:6], False, np.arange(600))
+    >>> [c.closed for c in close_gaps([piece], pts, 0.03)]
+    [True]
+    """
+    if all(c.closed for c in contours):
+        return contours
+    tree = cKDTree(points)
+    others = shapely.STRtree([_line(c) for c in contours])
+    out = list(contours)
+    for k, c in enumerate(contours):
+        if c.closed or not _filled_gap(c.points, tree, radius):
+            continue
+        ring = _closed_ring(c.points)
+        if ring is None or _crosses_others(ring, k, others):
+            continue
+        members = points[c.members]
+        before = polyline_distance(members, c.points, False).max(initial=0.0)
+        after = polyline_distance(members, ring, True).max(initial=0.0)
+        if after <= max(before, radius):
+            out[k] = OrderedContour(ring, True, c.members)
+    return out
+
+
+def _filled_gap(xy: FloatArray, tree: cKDTree, radius: float) -> bool:
+    """Are the piece's ends within `GAP_REACH` radii, the piece `GAP_LENGTH` times as long as
+    the gap, and points along the gap (`GAP_SUPPORT`)?"""
+    a, b = xy[0], xy[-1]
+    gap = float(np.linalg.norm(b - a))
+    if len(xy) < 4 or gap > GAP_REACH * radius or polyline_length(xy, False) < GAP_LENGTH * gap:
+        return False
+    steps = max(int(np.ceil(gap / (GAP_STEP * radius))), 1)
+    t = np.linspace(0.0, 1.0, steps + 1)[:, None]
+    near, _ = tree.query(a + t * (b - a), distance_upper_bound=GAP_SUPPORT * radius)
+    return bool(np.all(np.isfinite(near)))
+
+
+def _closed_ring(xy: FloatArray) -> FloatArray | None:
+    """The piece as a ring, untangled where the closing edge crosses it; None unless valid."""
+    ring = xy
+    if not shapely.Polygon(ring).is_valid:
+        ring = untangle(xy, True)
+    return ring if shapely.Polygon(ring).is_valid else None
+
+
+def _line(c: OrderedContour) -> shapely.Geometry:
+    xy = np.vstack([c.points, c.points[:1]]) if c.closed else c.points
+    return shapely.LineString(xy)
+
+
+def _crosses_others(ring: FloatArray, k: int, others: shapely.STRtree) -> bool:
+    """Does the ring meet a contour other than the ``k``-th?"""
+    hit = others.query(shapely.LinearRing(ring), predicate="intersects")
+    return bool(np.any(hit != k))

@@ -1,0 +1,40 @@
+"""An outline left open across a gap its points fill closes (`wavepoly.ordering.gaps`); a
+stroke whose ends face across an empty gap stays open."""
+
+from __future__ import annotations
+
+import numpy as np
+import shapely
+
+from wavepoly.ordering.gaps import close_gaps
+from wavepoly.types import OrderedContour
+
+RADIUS = 0.03
+
+
+def _circle(n: int = 600, start: float = 0.0, stop: float = 2 * np.pi) -> np.ndarray:
+    t = np.linspace(start, stop, n, endpoint=False)
+    return np.column_stack([np.cos(t), np.sin(t)])
+
+
+def test_a_ring_left_open_over_its_own_points_closes():
+    pts = _circle()
+    piece = OrderedContour(pts[3:-9:6], False, np.arange(600))
+    out = close_gaps([piece], pts, RADIUS)
+    assert [c.closed for c in out] == [True]
+    assert shapely.Polygon(out[0].points).is_valid
+
+
+def test_a_gap_without_points_stays_open():
+    pts = _circle()[:-12]  # the points stop where the piece does: a C
+    piece = OrderedContour(pts[::6], False, np.arange(len(pts)))
+    assert [c.closed for c in close_gaps([piece], pts, RADIUS)] == [False]
+
+
+def test_a_gap_closing_across_another_contour_stays_open():
+    pts = _circle()
+    piece = OrderedContour(pts[3:-9:6], False, np.arange(600))
+    across = OrderedContour(np.array([[0.95, -0.2], [1.05, 0.2]]), False, np.arange(0))
+    out = close_gaps([piece, across], pts, RADIUS)
+    assert [c.closed for c in out] == [False, False]
+
