@@ -161,3 +161,47 @@ def test_a_ring_in_two_pieces_whose_ends_stop_apart_becomes_one_ring():
     out = close_outlines(pieces, pts, 0.05)
     assert [c.closed for c in out] == [True]
     assert shapely.Polygon(out[0].points).is_valid
+
+
+def _ring_with_slit(radius: float):
+    """A unit ring in two pieces meeting at (1, 0) and (-1, 0), and the points of a slit cut
+    in from (1, 0) to (0.5, 0), its walls 0.4 radii apart."""
+    t = np.linspace(0, 2 * np.pi, 600, endpoint=False)
+    ring = np.column_stack([np.cos(t), np.sin(t)])
+    x = np.linspace(0.5, 1.0, 100)
+    walls = np.vstack([np.column_stack([x, np.full(100, s * 0.2 * radius)]) for s in (-1, 1)])
+    pieces = [OrderedContour(ring[:301:5], False, np.arange(300)),
+              OrderedContour(np.vstack([ring[300::5], ring[:1]]), False, np.arange(300, 600))]
+    return np.vstack([ring, walls]), pieces
+
+
+def test_a_speck_at_a_junction_does_not_keep_the_outline_open():
+    # the march left two nodes by a junction, and both of their ends met it
+    radius = 0.05
+    pts, pieces = _ring_with_slit(radius)
+    pts = pts[:600]
+    speck = OrderedContour(np.array([[1.0, 0.2 * radius], [1.0, -0.2 * radius]]), False,
+                           np.arange(0))
+    out = close_outlines([*pieces, speck], pts, radius)
+    assert [c.closed for c in out] == [True]
+    assert shapely.Polygon(out[0].points).is_valid
+    assert np.array_equal(out[0].members, np.arange(600))
+
+
+def test_a_slit_whose_root_the_march_drew_twice_is_walked_out_and_back():
+    # by the slit's root the march made two chains of one wall (a bubble), and the slit's
+    # stem hangs off their far junction, not off the ring
+    radius = 0.05
+    pts, pieces = _ring_with_slit(radius)
+    root = np.linspace([1.0, 0.0], [0.85, 0.0], 6)
+    bubble = [OrderedContour(root, False, np.arange(600, 630)),
+              OrderedContour(root + [0.0, 0.3 * radius], False, np.arange(700, 730)),
+              OrderedContour(np.linspace([0.85, 0.0], [0.5, 0.0], 15), False,
+                             np.concatenate([np.arange(630, 700), np.arange(730, 800)]))]
+    out = close_outlines([*pieces, *bubble], pts, radius)
+    assert [c.closed for c in out] == [True]
+    polygon = shapely.Polygon(out[0].points)
+    assert polygon.is_valid
+    # the outline runs down the slit to its tip
+    assert shapely.distance(polygon.exterior, shapely.Point(0.5, 0.0)) < radius
+    assert np.array_equal(out[0].members, np.arange(800))

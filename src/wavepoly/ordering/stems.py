@@ -46,6 +46,15 @@ EVEN_SAMPLING = 3.0
 #: The points of an edge inside the region (left out of the outline) must lie within this many
 #: radii of the outline: a chord where a slit tip's chains crossed runs beside its walls.
 INNER_REACH = 2.0
+#: A loop edge from a junction back to it no longer than this many radii is a speck: the
+#: march left two or three nodes by the junction, and both their ends met it.
+SPECK_LENGTH = 1.0
+#: Two edges between the same two nodes that lie within this many radii of each other are one
+#: wall drawn twice (a bubble), not a ring: a ring that thin is a stem, and walked as one.
+BUBBLE_WIDTH = 1.0
+#: ... and no longer than this many radii: the march's two chains by a junction, a few nodes
+#: each (longer ones are a chord beside a wall, whose region's boundary `outer_edges` finds).
+BUBBLE_LENGTH = 4.0
 #: Half the width between a stem's two walls, in radii: at least this, so that the polygon has
 #: an inside where the walls converge...
 MIN_HALF_WIDTH = 0.05
@@ -104,6 +113,9 @@ def close_outlines(contours: list[OrderedContour], points: FloatArray, radius: f
 def _outline(comp: list[int], edges: list[Edge], members: FloatArray, radius: float
              ) -> FloatArray | None:
     """The closed walk of a component that is one cycle with stems, or None."""
+    comp = _without_bubbles([k for k in comp if not _speck(edges[k], radius)], edges, radius)
+    if not comp:
+        return None
     stems = bridges(comp, edges)
     cycle = [k for k in comp if k not in stems]
     if not cycle:
@@ -127,6 +139,33 @@ def _outline(comp: list[int], edges: list[Edge], members: FloatArray, radius: fl
     if ring is None or not inner:
         return ring
     return ring if _inner_covered(ring, inner, edges, members, radius) else None
+
+
+def _speck(edge: Edge, radius: float) -> bool:
+    """Whether an edge is a loop from a node back to it no longer than `SPECK_LENGTH` radii:
+    a piece of two or three points whose ends both met one junction, which encloses nothing
+    (its points still belong to the outline)."""
+    length = np.linalg.norm(np.diff(edge.xy, axis=0), axis=1).sum()
+    return edge.start == edge.end and length <= SPECK_LENGTH * radius
+
+
+def _without_bubbles(comp: list[int], edges: list[Edge], radius: float) -> list[int]:
+    """The component with each bubble collapsed: of two edges between the same two nodes, no
+    longer than `BUBBLE_LENGTH` radii and within `BUBBLE_WIDTH` radii of each other, the longer
+    is left out (the march made two chains of one wall by a junction; its points still belong
+    to the outline). A longer chord beside a wall is left to `outer_edges`."""
+    out = list(comp)
+    for i, a in enumerate(comp):
+        for b in comp[i + 1:]:
+            ea, eb = edges[a], edges[b]
+            if (a not in out or b not in out or ea.start == ea.end
+                    or {ea.start, ea.end} != {eb.start, eb.end}):
+                continue
+            la, lb = shapely.LineString(ea.xy), shapely.LineString(eb.xy)
+            if (max(la.length, lb.length) <= BUBBLE_LENGTH * radius
+                    and la.hausdorff_distance(lb) <= BUBBLE_WIDTH * radius):
+                out.remove(a if la.length > lb.length else b)
+    return out
 
 
 def _inner_covered(ring: FloatArray, inner: list[int], edges: list[Edge], members: FloatArray,
