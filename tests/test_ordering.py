@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 
 from wavepoly.errors import DataError, ParameterError
 from wavepoly.ordering import curve_spacing, order_points
-from wavepoly.ordering.contours import MEMBER_REACH, clean_scan
+from wavepoly.ordering.contours import MEMBER_REACH
 from wavepoly.samples import glyph_outlines, sample_rings
 
 from .truth import densify, diagonal, order_agreement, svg_shape
@@ -31,8 +31,7 @@ def check_coverage(pts, ordering):
     tail instead of listing it)."""
     seen = np.concatenate([c.members for c in ordering.contours] + [ordering.outliers])
     assert np.array_equal(np.sort(seen), np.arange(len(pts)))
-    clean = clean_scan(ordering.noise, ordering.radius)
-    reach = (MEMBER_REACH if clean else 1.0) * ordering.radius
+    reach = (MEMBER_REACH if ordering.clean else 1.0) * ordering.radius
     for c in ordering.contours:
         assert distance_to_contour(pts[c.members], c).max() <= reach + 1e-9
 

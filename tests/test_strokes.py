@@ -102,7 +102,7 @@ def test_a_rounded_corner_is_still_restored_on_a_dense_curve():
 
 def _reread(pts, radius=TOLERANCE):
     return partial(_read, radius=radius, given=radius, seed=0, min_points=4, notes=(),
-                   min_window=0.0, tolerance=None, sparse=True, again=True)
+                   spacing=0.0, tolerance=None, sparse=True, again=True)
 
 
 def test_a_ghost_band_among_the_outliers_becomes_a_stroke_clear_of_the_wall():

@@ -141,8 +141,8 @@ def order_points(points: FloatArray, radius: float, *, seed: int = 0, min_points
                      f"along the curves ({spacing:.4g}) is more than a third of it")
         radius = new_radius
     sparse = radius > SPARSE_WIDENING * given
-    read = partial(_read, pts, radius, given, seed, min_points, tuple(notes),
-                   SPACINGS_PER_RADIUS * spacing, tolerance)
+    read = partial(_read, pts, radius, given, seed, min_points, tuple(notes), spacing,
+                   tolerance)
     ordering = read(sparse=sparse)
     if not sparse:
         return ordering
@@ -164,15 +164,18 @@ def _better_read_as_noise(clean: Ordering, noisy: Ordering, n_points: int) -> bo
 
 
 def _read(pts: FloatArray, radius: float, given: float, seed: int, min_points: int,
-          notes: tuple[str, ...], min_window: float, tolerance: float | None, sparse: bool,
+          notes: tuple[str, ...], spacing: float, tolerance: float | None, sparse: bool,
           again: bool = False) -> Ordering:
     """`order_points` at a radius already widened for the spacing: noise, nodes, chains and
     contours, read as a sparse sample (no noise measured) or not. ``notes``: those made so
-    far; ``min_window``: the narrowest window the scatter is measured over; ``again``: this
+    far; ``spacing``: the points' spacing along the curves (0: unknown), whose few
+    spacings are the narrowest window the scatter is measured over; ``again``: this
     is the second reading of a noisy scan's outliers (`strokes`), which is not read again."""
     notes = list(notes)
     rng = np.random.default_rng(seed)
-    nodes, atoms, scatter = noise_adaptive_nodes(pts, radius, sparse, min_window)
+    nodes, atoms, scatter = noise_adaptive_nodes(pts, radius, sparse,
+                                                 SPACINGS_PER_RADIUS * spacing)
+    clean = clean_scan(nodes.noise, radius, radius / spacing if spacing > 0 else np.inf)
     middle = tolerance is not None and runs_through_the_middle(pts, tolerance, nodes.noise,
                                                                scatter)
     corner_gap = max(CORNER_GAP * radius, CORNER_NOISE * nodes.noise) if middle else None
@@ -180,7 +183,7 @@ def _read(pts: FloatArray, radius: float, given: float, seed: int, min_points: i
         notes.append(f"noisy scan (the points spread {nodes.noise:.3g} about the curves over a "
                      f"neighbourhood): neighbourhoods widened from {radius:.4g} to "
                      f"{nodes.reach:.4g} to follow the curves")
-    noisy = not clean_scan(nodes.noise, radius)
+    noisy = not clean
     if noisy:
         nodes = nodes_with_points(nodes, atoms, NODE_POINTS, DENSE_NODE)
     nodes = split_two_walls(nodes, atoms, radius)
@@ -203,14 +206,14 @@ def _read(pts: FloatArray, radius: float, given: float, seed: int, min_points: i
                      "surface)")
     # a noisy scan's outliers read again are strokes beside its walls, not outlines
     contours, outliers = contours_of(pts, atoms.tree, nodes, chains, absorbed, radius,
-                                     min_points, corner_gap, stems=not again)
-    if clean_scan(nodes.noise, radius):  # on a noisy scan such groups are clutter
+                                     min_points, clean, corner_gap, stems=not again)
+    if clean:  # on a noisy scan such groups are clutter
         islands, outliers = island_contours(outliers, pts, radius, given)
         contours += islands
     elif not (again or middle):  # below the scatter, what lies off the middle is noise
         reread = partial(_read, radius=radius, given=given, seed=seed, min_points=min_points,
-                         notes=(), min_window=0.0, tolerance=None, sparse=True, again=True)
+                         notes=(), spacing=0.0, tolerance=None, sparse=True, again=True)
         strokes, outliers = stroke_contours(pts, outliers, contours, radius, given, reread)
         contours += strokes
     return Ordering(contours, outliers, radius, merged, tuple(notes), nodes.noise, scatter,
-                    middle)
+                    middle, clean)

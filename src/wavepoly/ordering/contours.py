@@ -47,6 +47,13 @@ CORNER_SHARE = 0.15
 #: rounded off, not a stray, and it stays a member out to `MEMBER_REACH`. On a noisier scan
 #: (the Intel map at 0.1 measures 0.39) strays about a wall are outliers beyond one radius.
 CLEAN_NOISE = 0.25
+#: On a curve sampled with fewer than `DENSE_CURVE` points per radius, a scatter up to this
+#: fraction of the radius is still a clean sampling: a silhouette traced from a bitmap whose
+#: pixel is half the tolerance, sampled with noise ε / 4, measures 0.27-0.31 (the staircase
+#: adds to the noise), and beyond one radius its noise left 1 or 2 points in 2000 out. A
+#: laser map's walls hold tens of points per radius, and there a scatter of 0.3 is a halo
+#: with strays in it (a ghost wall beside a dense wall measures 0.3).
+SPARSE_CLEAN_NOISE = 0.33
 #: On a clean scan, the nodes of a chain too short to be a contour, within this many radii
 #: of a contour, count as its nodes: the tip of a notch the march left as 2 or 3 nodes (its
 #: points then belong to the contour, which the corner insertion and the tips carry out to
@@ -74,7 +81,7 @@ DENSE_CURVE = 12.0
 
 
 def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain],
-                absorbed: IntArray, radius: float, min_points: int,
+                absorbed: IntArray, radius: float, min_points: int, clean: bool,
                 corner_gap: float | None = None, stems: bool = True
                 ) -> tuple[list[OrderedContour], IntArray]:
     """Contours from chains of at least ``min_points`` nodes, each with its member points.
@@ -85,10 +92,9 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
     contour nearest them, as do, on a clean scan, the nodes of chains shorter than
     ``min_points`` near a contour (`SHORT_CHAIN_REACH`). A member farther than the radius
     from its contour's chain (once the cut corners are restored) is an outlier too, unless
-    the scan is clean (`CLEAN_NOISE`). ``corner_gap``: how far off the chain a group of
+    the scan is ``clean`` (`clean_scan`). ``corner_gap``: how far off the chain a group of
     members marks a corner it cut (default `CORNER_GAP` radii).
     """
-    clean = clean_scan(nodes.noise, radius)
     short = [c.nodes for c in chains if len(c) < min_points]
     chains = [c for c in chains if len(c) >= min_points]
     if not chains:
@@ -146,9 +152,11 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
     return contours, outliers
 
 
-def clean_scan(noise: float, radius: float) -> bool:
-    """Is a scan with this scatter about its curves a clean sampling (`CLEAN_NOISE`)?"""
-    return noise <= CLEAN_NOISE * radius
+def clean_scan(noise: float, radius: float, per_radius: float = np.inf) -> bool:
+    """Is a scan with this scatter about its curves, and ``per_radius`` points per radius
+    along them, a clean sampling (`CLEAN_NOISE`, `SPARSE_CLEAN_NOISE`)?"""
+    limit = SPARSE_CLEAN_NOISE if per_radius < DENSE_CURVE else CLEAN_NOISE
+    return noise <= limit * radius
 
 
 def _vertex_index(chain: FloatArray, xy: FloatArray) -> IntArray:

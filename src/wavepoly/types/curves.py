@@ -66,6 +66,8 @@ class Ordering:
         most ``noise``): the scale a tolerance is judged against.
     through_the_middle: whether the tolerance asked for is below the noise, so that the
         contours run through the middle of it (`wavepoly.ordering.noise.runs_through_the_middle`).
+    clean: whether the scan was read as a clean sampling (`wavepoly.ordering.contours.clean_scan`):
+        members then reach two radii from their contour, and outlines with stems close.
     """
 
     contours: list[OrderedContour]
@@ -76,6 +78,7 @@ class Ordering:
     noise: float = 0.0
     scatter: float = 0.0
     through_the_middle: bool = False
+    clean: bool = False
 
 
 @dataclass(frozen=True, repr=False)
