@@ -38,3 +38,14 @@ def test_a_gap_closing_across_another_contour_stays_open():
     out = close_gaps([piece, across], pts, RADIUS)
     assert [c.closed for c in out] == [False, False]
 
+
+
+def test_a_ring_left_open_ten_radii_short_over_its_own_points_closes():
+    # at a bitmap's tail of one-pixel spurs the march stops some 10 radii short
+    pts = _circle()
+    piece = OrderedContour(pts[12:-12:6], False, np.arange(600))
+    gap = np.linalg.norm(piece.points[0] - piece.points[-1])
+    assert 10 * RADIUS < gap < 11 * RADIUS
+    out = close_gaps([piece], pts, RADIUS)
+    assert [c.closed for c in out] == [True]
+    assert shapely.Polygon(out[0].points).is_valid
