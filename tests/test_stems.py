@@ -205,3 +205,20 @@ def test_a_slit_whose_root_the_march_drew_twice_is_walked_out_and_back():
     # the outline runs down the slit to its tip
     assert shapely.distance(polygon.exterior, shapely.Point(0.5, 0.0)) < radius
     assert np.array_equal(out[0].members, np.arange(800))
+
+
+def test_a_stem_holding_one_wall_where_a_slit_parts_does_not_keep_the_outline_open():
+    # a slit's stem holds both walls; a second, short stem (2.8 radii) one wall, as where a
+    # wedge slit's walls part: together they hold more than twice the ring's points per
+    # length (the short one alone 1.05 x), and the outline closes
+    radius = 0.05
+    pts, pieces = _ring_with_slit(radius)
+    wall = np.column_stack([np.linspace(-1.0, -0.86, 14), np.zeros(14)])
+    pts = np.vstack([pts, wall])
+    stems = [OrderedContour(np.linspace([1.0, 0.0], [0.5, 0.0], 15), False,
+                            np.arange(600, 800)),
+             OrderedContour(wall[::2], False, np.arange(800, 814))]
+    out = close_outlines([*pieces, *stems], pts, radius)
+    assert [c.closed for c in out] == [True]
+    assert shapely.Polygon(out[0].points).is_valid
+    assert np.array_equal(out[0].members, np.arange(814))
