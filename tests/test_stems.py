@@ -222,3 +222,22 @@ def test_a_stem_holding_one_wall_where_a_slit_parts_does_not_keep_the_outline_op
     assert [c.closed for c in out] == [True]
     assert shapely.Polygon(out[0].points).is_valid
     assert np.array_equal(out[0].members, np.arange(814))
+
+
+def test_a_slit_whose_tip_stops_by_a_hole_keeps_the_hole_and_the_outline_apart():
+    # the slit's tip stops two radii from a hole: the T junction there joined the hole's
+    # ring to the outline (two rings and a bar), and neither closed
+    radius = 0.05
+    pts, pieces = _ring_with_slit(radius)
+    t = np.linspace(0, 2 * np.pi, 60, endpoint=False)
+    hole = np.column_stack([0.3 - 0.1 * np.cos(t), 0.1 * np.sin(t)])  # starts away from the tip
+    pts = np.vstack([pts, hole])
+    contours = [*pieces, OrderedContour(hole, True, np.arange(800, 860)),
+                OrderedContour(np.linspace([1.0, 0.0], [0.5, 0.0], 15), False,
+                               np.arange(600, 800))]
+    out = close_outlines(contours, pts, radius)
+    assert sorted(len(c.members) for c in out if c.closed) == [60, 800]
+    assert len(out) == 2
+    outline = next(c for c in out if len(c.members) == 800)
+    assert shapely.Polygon(outline.points).is_valid
+    assert shapely.distance(shapely.LinearRing(outline.points), shapely.Point(0.5, 0.0)) < radius

@@ -93,11 +93,28 @@ def close_outlines(contours: list[OrderedContour], points: FloatArray, radius: f
     """
     if all(c.closed for c in contours):
         return contours
-    lines = [np.vstack([c.points, c.points[:1]]) if c.closed else c.points for c in contours]
-    edges, node_xy = piece_graph(lines, [c.closed for c in contours], radius)
+    closed, used = _closed_components(contours, list(range(len(contours))), points, radius)
+    # a piece's end may stop by a ring that is no part of its outline (a slit's tip by a
+    # hole): the open pieces left are read again on their own
+    left = [k for k, c in enumerate(contours) if not c.closed and k not in used]
+    if left and any(c.closed for c in contours):
+        more, more_used = _closed_components(contours, left, points, radius)
+        closed, used = closed + more, used | more_used
+    if not closed:
+        return contours
+    return [c for k, c in enumerate(contours) if k not in used] + closed
+
+
+def _closed_components(contours: list[OrderedContour], pick: list[int], points: FloatArray,
+                       radius: float) -> tuple[list[OrderedContour], set[int]]:
+    """The closed outlines of the graph of the ``pick`` contours' pieces (`_outline`), and
+    the indices of the contours they use."""
+    lines = [np.vstack([contours[k].points, contours[k].points[:1]]) if contours[k].closed
+             else contours[k].points for k in pick]
+    edges, node_xy = piece_graph(lines, [contours[k].closed for k in pick], radius)
     closed, used = [], set()
     for comp in components(edges, len(node_xy)):
-        taken = sorted({edges[k].piece for k in comp})
+        taken = sorted({pick[edges[k].piece] for k in comp})
         if all(contours[k].closed for k in taken):
             continue
         members = np.sort(np.concatenate([contours[k].members for k in taken]))
@@ -105,9 +122,7 @@ def close_outlines(contours: list[OrderedContour], points: FloatArray, radius: f
         if ring is not None:
             used.update(taken)
             closed.append(OrderedContour(ring, True, members))
-    if not closed:
-        return contours
-    return [c for k, c in enumerate(contours) if k not in used] + closed
+    return closed, used
 
 
 def _outline(comp: list[int], edges: list[Edge], members: FloatArray, radius: float
