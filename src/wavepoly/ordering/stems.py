@@ -11,9 +11,10 @@ are drawn apart by their measured half-width, so the polygon stays simple.
 
 A stem is told from a stroke of a line drawing (Deery's antlers meet its head at T junctions
 too) by its points: two walls merged into one chain hold twice as many points per length as a
-wall of the cycle (`STEM_DENSITY`), one stroke as many. Only that structure is closed: one
-cycle, each stem a path from it to a dead end, the stems at a node on one side of the cycle;
-anything else (a line drawing's network, two rings joined by a bar) is left as it is.
+wall of the cycle (`STEM_DENSITY`, over an outline's stems together), one stroke as many.
+Only that structure is closed: one cycle, each stem a path from it to a dead end, the stems at
+a node on one side of the cycle; anything else (a line drawing's network, two rings joined by
+a bar) is left as it is.
 """
 
 from __future__ import annotations
