@@ -23,7 +23,7 @@ import numpy as np
 import shapely
 from scipy.spatial import cKDTree
 
-from ..geometry import nearest_of_segments, polyline_distance
+from ..geometry import nearest_of_segments, polyline_distance, polyline_length
 from ..types import FloatArray, IntArray, OrderedContour
 from .piece_graph import Edge, bridges, components, degrees, outer_edges, piece_graph
 from .untangle import crossing_edges, untangle
@@ -94,9 +94,12 @@ def close_outlines(contours: list[OrderedContour], points: FloatArray, radius: f
     """
     if all(c.closed for c in contours):
         return contours
-    closed, used = _closed_components(contours, list(range(len(contours))), points, radius)
+    density = _scan_density(contours)
+    closed, used = _closed_components(contours, list(range(len(contours))), points, radius,
+                                      density)
     # a piece's end may stop by a ring that is no part of its outline (a slit's tip by a
-    # hole): the open pieces left are read again on their own
+    # hole): the open pieces left are read again on their own (a lone piece among them, such
+    # as a bar between two rings, is no thin ring)
     left = [k for k, c in enumerate(contours) if not c.closed and k not in used]
     if left and any(c.closed for c in contours):
         more, more_used = _closed_components(contours, left, points, radius)
@@ -106,10 +109,19 @@ def close_outlines(contours: list[OrderedContour], points: FloatArray, radius: f
     return [c for k, c in enumerate(contours) if k not in used] + closed
 
 
+def _scan_density(contours: list[OrderedContour]) -> float:
+    """Points per length of the contours (0 when they have no length)."""
+    length = sum(polyline_length(c.points, c.closed) for c in contours)
+    return sum(len(c.members) for c in contours) / length if length > 0 else 0.0
+
+
 def _closed_components(contours: list[OrderedContour], pick: list[int], points: FloatArray,
-                       radius: float) -> tuple[list[OrderedContour], set[int]]:
+                       radius: float, density: float = 0.0
+                       ) -> tuple[list[OrderedContour], set[int]]:
     """The closed outlines of the graph of the ``pick`` contours' pieces (`_outline`), and
-    the indices of the contours they use."""
+    the indices of the contours they use. ``density``: the points per length of the scan's
+    contours, which a lone piece must hold `STEM_DENSITY` x to be a thin ring (`_thin_ring`;
+    0: none is)."""
     lines = [np.vstack([contours[k].points, contours[k].points[:1]]) if contours[k].closed
              else contours[k].points for k in pick]
     edges, node_xy = piece_graph(lines, [contours[k].closed for k in pick], radius)
@@ -119,23 +131,24 @@ def _closed_components(contours: list[OrderedContour], pick: list[int], points: 
         if all(contours[k].closed for k in taken):
             continue
         members = np.sort(np.concatenate([contours[k].members for k in taken]))
-        ring = _outline(comp, edges, points[members], radius)
+        ring = _outline(comp, edges, points[members], radius, density)
         if ring is not None:
             used.update(taken)
             closed.append(OrderedContour(ring, True, members))
     return closed, used
 
 
-def _outline(comp: list[int], edges: list[Edge], members: FloatArray, radius: float
-             ) -> FloatArray | None:
-    """The closed walk of a component that is one cycle with stems, or None."""
+def _outline(comp: list[int], edges: list[Edge], members: FloatArray, radius: float,
+             density: float = 0.0) -> FloatArray | None:
+    """The closed walk of a component that is one cycle with stems, or of a lone piece that
+    is a thin ring (`_thin_ring`), or None."""
     comp = _without_bubbles([k for k in comp if not _speck(edges[k], radius)], edges, radius)
     if not comp:
         return None
     stems = bridges(comp, edges)
     cycle = [k for k in comp if k not in stems]
     if not cycle:
-        return None
+        return _thin_ring(comp, edges, members, radius, density)
     degree = degrees(cycle, edges)
     inner: list[int] = []
     if any(d != 2 for d in degree.values()):
@@ -155,6 +168,22 @@ def _outline(comp: list[int], edges: list[Edge], members: FloatArray, radius: fl
     if ring is None or not inner:
         return ring
     return ring if _inner_covered(ring, inner, edges, members, radius) else None
+
+
+def _thin_ring(comp: list[int], edges: list[Edge], members: FloatArray, radius: float,
+               density: float) -> FloatArray | None:
+    """A lone piece that holds `STEM_DENSITY` x the points per length of the scan's contours
+    (``density``) as a ring round it, walked out and back: a hole or a part thinner than the
+    radius, whose two walls the march followed as one chain. A line drawing's lone stroke
+    holds as many points as its rings, and stays open."""
+    if len(comp) != 1 or density <= 0:
+        return None
+    path = edges[comp[0]].xy
+    length = polyline_length(path, False)
+    if len(path) < 3 or len(members) < STEM_DENSITY * density * max(length, radius):
+        return None
+    ring = _out_and_back(path, -1.0, cKDTree(members), radius)
+    return ring if shapely.Polygon(ring).is_valid else None
 
 
 def _speck(edge: Edge, radius: float) -> bool:
