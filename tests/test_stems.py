@@ -246,18 +246,13 @@ def test_a_slit_whose_tip_stops_by_a_hole_keeps_the_hole_and_the_outline_apart()
 def test_a_lone_piece_holding_two_walls_is_a_thin_ring_and_a_lone_stroke_stays_open():
     # a hole thinner than the radius: the march followed its two walls as one chain
     radius = 0.05
-    t = np.linspace(0, 2 * np.pi, 600, endpoint=False)
-    ring = np.column_stack([np.cos(t), np.sin(t)])
+    ring, pieces = _ring_with_slit(radius)
     x = np.linspace(-0.4, 0.4, 80)  # each wall as dense as the ring
     walls = np.vstack([np.column_stack([x, np.full(80, s * 0.2 * radius)]) for s in (-1, 1)])
     line = np.column_stack([np.linspace(-0.4, 0.4, 17), np.zeros(17)])
     for pts, thin in ((walls, True), (walls[:80], False)):  # two walls; one stroke
-        everything = np.vstack([ring, pts])
-        pieces = [OrderedContour(np.vstack([ring[:301:5], ring[300:301]]), False,
-                                 np.arange(300)),
-                  OrderedContour(np.vstack([ring[300::5], ring[:1]]), False,
-                                 np.arange(300, 600)),
-                  OrderedContour(line, False, np.arange(600, 600 + len(pts)))]
-        out = close_outlines(pieces, everything, radius)
+        everything = np.vstack([ring[:600], pts])
+        lone = OrderedContour(line, False, np.arange(600, 600 + len(pts)))
+        out = close_outlines([*pieces, lone], everything, radius)
         assert sorted(c.closed for c in out) == ([True, True] if thin else [False, True])
         assert all(shapely.Polygon(c.points).is_valid for c in out if c.closed)
