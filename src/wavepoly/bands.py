@@ -36,6 +36,11 @@ MIN_SECTION_POINTS = 8
 #: surface is nearly in the plane leave gaps of about a layer's thickness.
 GAP_LAYERS = 1.0
 GAP_TOLERANCES = 4.0
+#: A layer is broken (`_broken`) when its open pieces are at least this share as long as its
+#: closed contours: a plane along the turbine blade's platform closed the points on one side of
+#: it (47 units) and left the other side open (45); a whole section with a stray fragment
+#: has a few percent (the bunny's second layer: 6 %).
+BROKEN_SHARE = 0.5
 #: Longest run of broken layers held over from their neighbours: a plane nearly touching a
 #: face breaks a layer or two; a longer run is a gap in the scan, which a copy would hide.
 MAX_HELD_RUN = 2
@@ -203,11 +208,12 @@ def _solid(f: FitResult) -> bool:
 
 
 def _broken(f: FitResult) -> bool:
-    """Does the layer's section stand for no solid: open pieces longer than its closed
-    contours (a few fragments closed by chance among them do not make it one)?"""
+    """Does the layer's section stand for no solid: open pieces at least `BROKEN_SHARE` x as
+    long as its closed contours (a few fragments closed by chance among them do not make it
+    one)?"""
     opened = sum(polyline_length(c.vertices, False) for c in f.contours if not c.closed)
     closed = sum(polyline_length(c.vertices, True) for c in f.contours if c.closed)
-    return opened > closed
+    return opened > 0 and opened >= BROKEN_SHARE * closed
 
 
 def _broken_runs(fits: list[FitResult]) -> list[tuple[int, int]]:
