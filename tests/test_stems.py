@@ -256,3 +256,46 @@ def test_a_lone_piece_holding_two_walls_is_a_thin_ring_and_a_lone_stroke_stays_o
         out = close_outlines([*pieces, lone], everything, radius)
         assert sorted(c.closed for c in out) == ([True, True] if thin else [False, True])
         assert all(shapely.Polygon(c.points).is_valid for c in out if c.closed)
+
+
+def test_a_stem_that_holds_two_walls_over_less_than_half_of_it_closes_the_outline():
+    # a wedge slit: by its root the walls part and the stem holds one of them (6 radii), by
+    # its tip it holds both (4 radii); over its whole length it holds 1.4 x the ring's points
+    # per length, over its denser half 1.7 x. A stem holding one wall throughout is a stroke.
+    radius = 0.05
+    ring, pieces = _ring_with_slit(radius)
+    ring = ring[:600]  # 95 points per unit length
+    one_wall = np.column_stack([np.linspace(0.7, 1.0, 29), np.full(29, 0.2 * radius)])
+    tip = np.vstack([np.column_stack([np.linspace(0.5, 0.7, 19), np.full(19, s * 0.2 * radius)])
+                     for s in (-1, 1)])
+    stroke = np.column_stack([np.linspace(0.5, 1.0, 48), np.full(48, 0.2 * radius)])
+    for walls, closes in ((np.vstack([one_wall, tip]), True), (stroke, False)):
+        pts = np.vstack([ring, walls])
+        stem = OrderedContour(np.linspace([1.0, 0.0], [0.5, 0.0], 21), False,
+                              np.arange(600, len(pts)))
+        out = close_outlines([*pieces, stem], pts, radius)
+        assert [c.closed for c in out] == ([True] if closes else [False, False, False])
+        if closes:
+            polygon = shapely.Polygon(out[0].points)
+            assert polygon.is_valid
+            assert shapely.distance(polygon.exterior, shapely.Point(0.5, 0.0)) < radius
+
+
+def test_a_stem_that_zigzags_between_its_walls_is_walked_along_its_middle():
+    # walls 1.2 radii apart: the march zigzagged between them, stepping back now and then,
+    # and walked out and back along the zigzag the stem crossed itself
+    radius = 0.05
+    ring, pieces = _ring_with_slit(radius)
+    x = np.linspace(0.5, 1.0, 100)
+    walls = np.vstack([np.column_stack([x, np.full(100, s * 0.6 * radius)]) for s in (-1, 1)])
+    pts = np.vstack([ring[:600], walls])
+    k = np.arange(15)
+    back = 0.5 * radius * (-1.0) ** k * (k % 3 == 1)
+    zigzag = np.column_stack([np.linspace(1.0, 0.5, 15) + back, 0.6 * radius * (-1.0) ** k])
+    zigzag[0], zigzag[-1] = [1.0, 0.0], [0.5, 0.0]
+    out = close_outlines([*pieces, OrderedContour(zigzag, False, np.arange(600, 800))], pts,
+                         radius)
+    assert [c.closed for c in out] == [True]
+    polygon = shapely.Polygon(out[0].points)
+    assert polygon.is_valid
+    assert shapely.distance(polygon.exterior, shapely.Point(0.5, 0.0)) < radius
