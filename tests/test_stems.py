@@ -299,3 +299,37 @@ def test_a_stem_that_zigzags_between_its_walls_is_walked_along_its_middle():
     polygon = shapely.Polygon(out[0].points)
     assert polygon.is_valid
     assert shapely.distance(polygon.exterior, shapely.Point(0.5, 0.0)) < radius
+
+
+def test_a_stem_running_on_from_where_the_ring_turns_back_needs_fewer_points():
+    # a slit 2 radii wide at its mouth, where the ring ran in along each wall and turned
+    # back; on from there, the stem holds 1.3 x the ring's points per length (a bitmap's
+    # trace holds one wall in places). The same stem off a smooth ring is a stroke.
+    radius = 0.05
+    t = np.linspace(0, 2 * np.pi, 600, endpoint=False)
+    circle = np.column_stack([np.cos(t), np.sin(t)])  # 95 points per unit length
+    circle = circle[(circle[:, 0] < 0.9) | (np.abs(circle[:, 1]) > radius)]
+    x = np.linspace(0.8, 0.999, 19)
+    upper, lower = (np.column_stack([x, np.full(19, s * radius)]) for s in (1, -1))
+    up, down = circle[circle[:, 1] > 0], circle[circle[:, 1] < 0]
+    x = np.linspace(0.5, 0.79, 19)
+    walls = np.vstack([np.column_stack([x, np.full(19, s * 0.2 * radius)]) for s in (1, -1)])
+    pts = np.vstack([circle, upper, lower, walls])
+    n_ring = len(pts) - len(walls)
+    pieces = [OrderedContour(np.vstack([[0.8, 0.0], upper[::2], up[::5], [-1.0, 0.0]]), False,
+                             np.arange(n_ring)),
+              OrderedContour(np.vstack([[-1.0, 0.0], down[::5], lower[::-2], [0.8, 0.0]]),
+                             False, np.arange(0))]
+    stem = OrderedContour(np.linspace([0.8, 0.0], [0.5, 0.0], 13), False,
+                          np.arange(n_ring, len(pts)))
+    out = close_outlines([*pieces, stem], pts, radius)
+    assert [c.closed for c in out] == [True]
+    assert shapely.Polygon(out[0].points).is_valid
+    assert shapely.distance(shapely.LinearRing(out[0].points), shapely.Point(0.5, 0.0)) < radius
+    ring, smooth = _ring_with_slit(radius)
+    x = np.linspace(0.5, 1.0, 31)
+    walls = np.vstack([np.column_stack([x, np.full(31, s * 0.2 * radius)]) for s in (1, -1)])
+    pts = np.vstack([ring[:600], walls])
+    stroke = OrderedContour(np.linspace([1.0, 0.0], [0.5, 0.0], 21), False,
+                            np.arange(600, len(pts)))
+    assert not any(c.closed for c in close_outlines([*smooth, stroke], pts, radius))

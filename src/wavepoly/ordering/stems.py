@@ -11,7 +11,7 @@ are drawn apart by their measured half-width, so the polygon stays simple.
 
 A stem is told from a stroke of a line drawing (Deery's antlers meet its head at T junctions
 too) by its points: two walls merged into one chain hold twice as many points per length as a
-wall of the cycle (`STEM_DENSITY`, over the denser half of an outline's stems), one stroke as many.
+wall of the cycle, one stroke as many (`wavepoly.ordering.slits`).
 Only that structure is closed: one cycle, each stem a path from it to a dead end, the stems at
 a node on one side of the cycle; anything else (a line drawing's network, two rings joined by
 a bar) is left as it is.
@@ -23,17 +23,12 @@ import numpy as np
 import shapely
 from scipy.spatial import cKDTree
 
-from ..geometry import nearest_of_segments, polyline_distance, polyline_length
-from ..types import FloatArray, IntArray, OrderedContour
+from ..geometry import polyline_distance, polyline_length
+from ..types import FloatArray, OrderedContour
 from .piece_graph import Edge, bridges, components, degrees, outer_edges, piece_graph
+from .slits import STEM_DENSITY, stems_are_slits
 from .untangle import crossing_edges, untangle
 
-#: Stems hold at least this many times the points per length of their cycle: a uniform
-#: sampling puts twice as many on two merged walls, and as many on one stroke.
-STEM_DENSITY = 1.5
-#: Stems are measured over the denser half of their stretches this many radii long
-#: (`_denser_half`): a dozen points or more on one wall sampled at 3 per radius.
-STEM_WINDOW = 4.0
 #: A stem walked out and back that crosses itself (its path zigzags between walls 1-2 radii
 #: apart) is walked again along its path averaged over this many nodes each side.
 SMOOTH_NODES = 2
@@ -43,13 +38,6 @@ SMOOTH_NODES = 2
 STEM_CROSSINGS = 4
 #: ... each within this many radii of a stem's root.
 ROOT_REACH = 2.0
-#: A ring's points are counted in windows of this many radii (some 20 points each on a
-#: uniform sampling of 3 spacings per radius, so that chance varies a count by a fifth)...
-DENSITY_WINDOW = 8.0
-#: ... and the sampling is even when the densest decile of windows holds at most this many
-#: times as many points per length as the sparsest: a scan's uniform sampling, not a laser
-#: map's, whose density falls with the range (there a stem is no sign of two walls).
-EVEN_SAMPLING = 3.0
 #: The points of an edge inside the region (left out of the outline) must lie within this many
 #: radii of the outline: a chord where a slit tip's chains crossed runs beside its walls.
 INNER_REACH = 2.0
@@ -168,7 +156,7 @@ def _outline(comp: list[int], edges: list[Edge], members: FloatArray, radius: fl
     paths = _stem_paths(stems, edges, set(degree))
     if paths is None:
         return None
-    if paths and not _dense_stems(paths, walk, members, radius):
+    if paths and not stems_are_slits(paths, walk, members, radius):
         return None
     tree = cKDTree(members)
     ring = _ring_with_stems(walk, paths, tree, radius)
@@ -280,71 +268,6 @@ def _stem_paths(stems: set[int], edges: list[Edge], on_cycle: set[int]
                 k = nxt[0]
             paths.setdefault(v, []).append(np.vstack([parts[0]] + [p[1:] for p in parts[1:]]))
     return paths if seen == stems else None
-
-
-def _dense_stems(paths: dict[int, list[FloatArray]], walk: list[tuple[int, FloatArray]],
-                 members: FloatArray, radius: float) -> bool:
-    """Whether the cycle is sampled evenly (`EVEN_SAMPLING`) and its stems together hold
-    `STEM_DENSITY` x the points per length of the cycle, measured over their denser half
-    (`_denser_half`; a line drawing's strokes hold 1.0 together, 1.2 over their denser half
-    when sampled at 3 points per radius)."""
-    lines = [xy for _, xy in walk] + [p for ps in paths.values() for p in ps]
-    label = np.concatenate([np.full(len(xy) - 1, k) for k, xy in enumerate(lines)])
-    a = np.vstack([xy[:-1] for xy in lines])
-    b = np.vstack([xy[1:] for xy in lines])
-    seg_length = np.linalg.norm(b - a, axis=1)
-    seg, dist = nearest_of_segments(members, a, b)
-    seg = seg[dist <= radius]
-    count = np.bincount(seg, minlength=len(a))
-    ring = label < len(walk)
-    window = STEM_WINDOW * radius
-    ring_density = count[ring].sum() / max(seg_length[ring].sum(), 1e-300)
-    stem_density = _denser_half(count[~ring], seg_length[~ring], label[~ring], window)
-    return (_even(seg[seg < ring.sum()], seg_length[ring], radius)
-            and bool(stem_density >= STEM_DENSITY * ring_density))
-
-
-def _denser_half(count: FloatArray, seg_length: FloatArray, line: IntArray, window: float
-                 ) -> float:
-    """Points per length over the denser half (by length) of the stretches ``window`` long
-    along each line (``count`` points on each segment, ``line`` the line of each; the last,
-    short stretch of a line joins the one before).
-
-    A wedge slit's stem runs on where its walls part, and there holds one wall (a stretch as
-    long as the merged one where the march went round both walls, which kept whole outlines
-    open: their stems held 1.4 x the ring's points per length); its merged stretch holds two."""
-    start = np.flatnonzero(np.r_[True, line[1:] != line[:-1]])
-    stop = np.r_[start[1:], len(line)]
-    which = np.repeat(np.arange(len(start)), stop - start)  # each segment's line, from 0
-    arc = np.r_[0.0, np.cumsum(seg_length)]
-    base = arc[start][which]
-    along = arc[1:] - base - seg_length / 2
-    total = arc[stop][which] - base  # the length of each segment's line
-    last = np.maximum(total // window - 1, 0)
-    stretch = np.minimum(along // window, last)
-    _, key = np.unique(np.column_stack([which, stretch]), axis=0, return_inverse=True)
-    key = key.ravel()
-    points = np.bincount(key, count)
-    width = np.bincount(key, seg_length)
-    order = np.argsort(-points / np.maximum(width, 1e-300))
-    half = np.searchsorted(np.cumsum(width[order]), width.sum() / 2) + 1
-    taken = order[:half]
-    return float(points[taken].sum() / max(width[taken].sum(), 1e-300))
-
-
-def _even(seg: IntArray, seg_length: FloatArray, radius: float) -> bool:
-    """Whether points spread evenly along a ring: counted in windows of `DENSITY_WINDOW`
-    radii, the densest decile holds at most `EVEN_SAMPLING` x the sparsest."""
-    arc = np.cumsum(seg_length)
-    window = ((arc - seg_length / 2) // (DENSITY_WINDOW * radius)).astype(int)
-    n_windows = int(arc[-1] // (DENSITY_WINDOW * radius))
-    if n_windows < 2:
-        return True
-    window = np.minimum(window, n_windows - 1)  # the last, short window joins the one before
-    count = np.bincount(window[seg], minlength=n_windows)
-    width = np.bincount(window, weights=seg_length, minlength=n_windows)
-    low, high = np.percentile(count / width, [10, 90])
-    return bool(high <= EVEN_SAMPLING * low)
 
 
 def _smoothed(stem: FloatArray) -> FloatArray:

@@ -1,0 +1,150 @@
+"""Slits or strokes: whether the stems hanging off a cycle of open pieces are two walls.
+
+Where a slit or a limb narrower than the radius is cut into an outline, the march follows its
+two walls as one chain, a stem (`wavepoly.ordering.stems`). A line drawing's stroke meets a
+ring at a T junction too, and must stay a stroke. The points tell them apart: a uniform
+sampling puts twice as many points per length on two merged walls as on the cycle's one wall,
+and as many on one stroke; and a slit's walls part where it opens into the outline, so that
+the cycle turns back there (a hairpin) and the stem runs on between its arms.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..geometry import nearest_of_segments
+from ..types import FloatArray, IntArray
+
+#: Stems hold at least this many times the points per length of their cycle: a uniform
+#: sampling puts twice as many on two merged walls, and as many on one stroke.
+STEM_DENSITY = 1.5
+#: A stem whose root sits where the cycle turns back, and that runs on the other way
+#: (`_at_hairpins`: a slit whose walls part into the cycle), need hold only this many times
+#: the cycle's points per length: where a slit narrows below a pixel, a bitmap's trace holds
+#: one wall in places, and such stems held 1.3 x (a line drawing's strokes 1.0).
+SLIT_DENSITY = 1.2
+#: The cycle's arms and the stem are followed this many radii from the root...
+HAIRPIN_REACH = 3.0
+#: ... and the arms run within 60 degrees of each other, the stem within 30 degrees of the
+#: way back between them.
+HAIRPIN_COS = float(np.cos(np.radians(30.0)))
+#: Stems are measured over the denser half of their stretches this many radii long
+#: (`_denser_half`): a dozen points or more on one wall sampled at 3 per radius.
+STEM_WINDOW = 4.0
+#: A ring's points are counted in windows of this many radii (some 20 points each on a
+#: uniform sampling of 3 spacings per radius, so that chance varies a count by a fifth)...
+DENSITY_WINDOW = 8.0
+#: ... and the sampling is even when the densest decile of windows holds at most this many
+#: times as many points per length as the sparsest: a scan's uniform sampling, not a laser
+#: map's, whose density falls with the range (there a stem is no sign of two walls).
+EVEN_SAMPLING = 3.0
+
+
+def stems_are_slits(paths: dict[int, list[FloatArray]], walk: list[tuple[int, FloatArray]],
+                    members: FloatArray, radius: float) -> bool:
+    """Whether a cycle's stems are two walls merged into one chain, not strokes.
+
+    The cycle must be sampled evenly (`EVEN_SAMPLING`), and its stems together hold
+    `STEM_DENSITY` x its points per length, measured over their denser half (`_denser_half`;
+    a line drawing's strokes hold 1.0 together, 1.2 over their denser half when sampled at 3
+    points per radius), or `SLIT_DENSITY` x where each runs on from a hairpin of the cycle
+    (`_at_hairpins`).
+
+    Parameters
+    ----------
+    paths : each stem as a polyline from its root on the cycle, by the root's node.
+    walk : the cycle's edges in order, each as (its start node, its polyline along the walk).
+    members : the points of the cycle and its stems.
+    radius : the neighbourhood radius of the ordering.
+    """
+    least = SLIT_DENSITY if _at_hairpins(paths, walk, radius) else STEM_DENSITY
+    lines = [xy for _, xy in walk] + [p for ps in paths.values() for p in ps]
+    label = np.concatenate([np.full(len(xy) - 1, k) for k, xy in enumerate(lines)])
+    a = np.vstack([xy[:-1] for xy in lines])
+    b = np.vstack([xy[1:] for xy in lines])
+    seg_length = np.linalg.norm(b - a, axis=1)
+    seg, dist = nearest_of_segments(members, a, b)
+    seg = seg[dist <= radius]
+    count = np.bincount(seg, minlength=len(a))
+    ring = label < len(walk)
+    window = STEM_WINDOW * radius
+    ring_density = count[ring].sum() / max(seg_length[ring].sum(), 1e-300)
+    stem_density = _denser_half(count[~ring], seg_length[~ring], label[~ring], window)
+    return (_even(seg[seg < ring.sum()], seg_length[ring], radius)
+            and bool(stem_density >= least * ring_density))
+
+
+def _at_hairpins(paths: dict[int, list[FloatArray]], walk: list[tuple[int, FloatArray]],
+                 radius: float) -> bool:
+    """Whether the cycle turns back at each stem's root, and the stem runs on the other way:
+    a slit's walls part there (wider than the radius, the march followed each) and the
+    stem continues between them, where a line drawing's stroke leaves a smooth ring."""
+    reach = HAIRPIN_REACH * radius
+    for i, (v, leaving) in enumerate(walk):
+        if v not in paths:
+            continue
+        arriving = walk[i - 1][1]
+        root = leaving[0]
+        back = _point_along(arriving[::-1], reach) - root
+        ahead = _point_along(leaving, reach) - root
+        arms = back / max(np.linalg.norm(back), 1e-300) + ahead / max(np.linalg.norm(ahead),
+                                                                        1e-300)
+        if np.linalg.norm(arms) < 2 * HAIRPIN_COS:  # more than 60 degrees apart
+            return False
+        arms /= np.linalg.norm(arms)
+        for stem in paths[v]:
+            out = _point_along(stem, reach) - root
+            if out @ arms > -HAIRPIN_COS * np.linalg.norm(out):
+                return False
+    return True
+
+
+def _point_along(xy: FloatArray, distance: float) -> FloatArray:
+    """The point ``distance`` along a polyline from its start (its end, if shorter)."""
+    arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(xy, axis=0), axis=1))])
+    if arc[-1] <= distance:
+        return xy[-1]
+    return np.array([np.interp(distance, arc, xy[:, d]) for d in range(2)])
+
+
+def _denser_half(count: FloatArray, seg_length: FloatArray, line: IntArray, window: float
+                 ) -> float:
+    """Points per length over the denser half (by length) of the stretches ``window`` long
+    along each line (``count`` points on each segment, ``line`` the line of each; the last,
+    short stretch of a line joins the one before).
+
+    A wedge slit's stem runs on where its walls part, and there holds one wall (a stretch as
+    long as the merged one where the march went round both walls, which kept whole outlines
+    open: their stems held 1.4 x the ring's points per length); its merged stretch holds two."""
+    start = np.flatnonzero(np.r_[True, line[1:] != line[:-1]])
+    stop = np.r_[start[1:], len(line)]
+    which = np.repeat(np.arange(len(start)), stop - start)  # each segment's line, from 0
+    arc = np.r_[0.0, np.cumsum(seg_length)]
+    base = arc[start][which]
+    along = arc[1:] - base - seg_length / 2
+    total = arc[stop][which] - base  # the length of each segment's line
+    last = np.maximum(total // window - 1, 0)
+    stretch = np.minimum(along // window, last)
+    _, key = np.unique(np.column_stack([which, stretch]), axis=0, return_inverse=True)
+    key = key.ravel()
+    points = np.bincount(key, count)
+    width = np.bincount(key, seg_length)
+    order = np.argsort(-points / np.maximum(width, 1e-300))
+    half = np.searchsorted(np.cumsum(width[order]), width.sum() / 2) + 1
+    taken = order[:half]
+    return float(points[taken].sum() / max(width[taken].sum(), 1e-300))
+
+
+def _even(seg: IntArray, seg_length: FloatArray, radius: float) -> bool:
+    """Whether points spread evenly along a ring: counted in windows of `DENSITY_WINDOW`
+    radii, the densest decile holds at most `EVEN_SAMPLING` x the sparsest."""
+    arc = np.cumsum(seg_length)
+    window = ((arc - seg_length / 2) // (DENSITY_WINDOW * radius)).astype(int)
+    n_windows = int(arc[-1] // (DENSITY_WINDOW * radius))
+    if n_windows < 2:
+        return True
+    window = np.minimum(window, n_windows - 1)  # the last, short window joins the one before
+    count = np.bincount(window[seg], minlength=n_windows)
+    width = np.bincount(window, weights=seg_length, minlength=n_windows)
+    low, high = np.percentile(count / width, [10, 90])
+    return bool(high <= EVEN_SAMPLING * low)
