@@ -17,6 +17,7 @@ from ..types import Chain, FloatArray, IntArray, OrderedContour
 from .gaps import close_gaps
 from .marching import CORNER_TURN, turning
 from .neighbourhoods import Nodes
+from .split_tips import rejoin_split_tips
 from .stems import close_outlines
 from .tips import extend_tips
 from .untangle import (
@@ -149,6 +150,7 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
     # on a noisy scan (a laser map) a room's wall and a short wall meeting it are lines
     if stems and clean:
         contours = close_gaps(close_outlines(contours, pts, radius), pts, radius)
+        contours = rejoin_split_tips(contours, radius)
     return contours, outliers
 
 

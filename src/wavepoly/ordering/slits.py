@@ -25,9 +25,11 @@ STEM_DENSITY = 1.5
 SLIT_DENSITY = 1.2
 #: The cycle's arms and the stem are followed this many radii from the root...
 HAIRPIN_REACH = 3.0
-#: ... and the arms run within 60 degrees of each other, the stem within 30 degrees of the
-#: way back between them.
-HAIRPIN_COS = float(np.cos(np.radians(30.0)))
+#: ... the arms run within this many degrees of each other (a wedge slit's walls part at up
+#: to 70 degrees, zigzags and all, over those radii)...
+HAIRPIN_ARMS = 90.0
+#: ... and the stem within this many degrees of the way back between them.
+HAIRPIN_STEM = 50.0
 #: Stems are measured over the denser half of their stretches this many radii long
 #: (`_denser_half`): a dozen points or more on one wall sampled at 3 per radius.
 STEM_WINDOW = 4.0
@@ -76,27 +78,34 @@ def stems_are_slits(paths: dict[int, list[FloatArray]], walk: list[tuple[int, Fl
 
 def _at_hairpins(paths: dict[int, list[FloatArray]], walk: list[tuple[int, FloatArray]],
                  radius: float) -> bool:
-    """Whether the cycle turns back at each stem's root, and the stem runs on the other way:
-    a slit's walls part there (wider than the radius, the march followed each) and the
-    stem continues between them, where a line drawing's stroke leaves a smooth ring."""
-    reach = HAIRPIN_REACH * radius
+    """Whether each stem runs on from a hairpin of the cycle (`runs_on_from_hairpin`)."""
     for i, (v, leaving) in enumerate(walk):
-        if v not in paths:
-            continue
-        arriving = walk[i - 1][1]
-        root = leaving[0]
-        back = _point_along(arriving[::-1], reach) - root
-        ahead = _point_along(leaving, reach) - root
-        arms = back / max(np.linalg.norm(back), 1e-300) + ahead / max(np.linalg.norm(ahead),
-                                                                        1e-300)
-        if np.linalg.norm(arms) < 2 * HAIRPIN_COS:  # more than 60 degrees apart
-            return False
-        arms /= np.linalg.norm(arms)
-        for stem in paths[v]:
-            out = _point_along(stem, reach) - root
-            if out @ arms > -HAIRPIN_COS * np.linalg.norm(out):
+        for stem in paths.get(v, []):
+            if not runs_on_from_hairpin(walk[i - 1][1][::-1], leaving, stem, radius):
                 return False
     return True
+
+
+def runs_on_from_hairpin(back: FloatArray, ahead: FloatArray, out: FloatArray, radius: float
+                         ) -> bool:
+    """Whether an outline turns back at a point and a line runs on the other way from it:
+    ``back`` and ``ahead``, the outline from the point either way, run side by side
+    (`HAIRPIN_ARMS`) over `HAIRPIN_REACH` radii, and ``out``, the line from the point, runs
+    back between them (`HAIRPIN_STEM`). So a slit's walls part where it opens into the
+    outline (wider than the radius, the march followed each) and the slit's stem continues
+    between them, where a line drawing's stroke leaves a smooth ring. Each polyline starts at
+    the point."""
+    reach = HAIRPIN_REACH * radius
+    root = ahead[0]
+    arms = np.zeros(2)
+    for arm in (back, ahead):
+        d = _point_along(arm, reach) - root
+        arms += d / max(np.linalg.norm(d), 1e-300)
+    if np.linalg.norm(arms) < 2 * np.cos(np.radians(HAIRPIN_ARMS / 2)):
+        return False
+    arms /= np.linalg.norm(arms)
+    d = _point_along(out, reach) - root
+    return bool(d @ arms <= -np.cos(np.radians(HAIRPIN_STEM)) * np.linalg.norm(d))
 
 
 def _point_along(xy: FloatArray, distance: float) -> FloatArray:

@@ -1,0 +1,53 @@
+"""A slit's or a thin limb's tip that the march closed as a ring of its own is joined back to
+its outline (`wavepoly.ordering.split_tips`); a thin ring beside a smooth wall is left apart."""
+
+from __future__ import annotations
+
+import numpy as np
+import shapely
+
+from wavepoly.ordering.split_tips import rejoin_split_tips
+from wavepoly.types import OrderedContour
+
+RADIUS = 0.05
+W = 0.8 * RADIUS  # half-width of the wide part, where the march followed each wall
+T = 0.4 * RADIUS  # half-width of the tip, whose walls it followed as one chain
+
+
+def _ring(polygon: shapely.Polygon, first: int) -> OrderedContour:
+    xy = np.asarray(shapely.segmentize(polygon, RADIUS / 2).exterior.coords)[:-1]
+    return OrderedContour(xy, True, np.arange(first, first + len(xy)))
+
+
+def _box(x0, x1, y0, y1):
+    return shapely.box(x0, y0, x1, y1)
+
+
+def test_a_limb_tip_closed_apart_is_joined_to_its_outline():
+    body = shapely.union(_box(-1, 1, -0.5, 0.5), _box(0.9, 1.3, -W, W))
+    tip = _box(1.33, 1.6, -T, T)
+    out = rejoin_split_tips([_ring(body, 0), _ring(tip, 1000)], RADIUS)
+    assert len(out) == 1 and out[0].closed
+    polygon = shapely.Polygon(out[0].points)
+    assert polygon.is_valid
+    assert polygon.covers(shapely.Point(1.59, 0.0)) and polygon.covers(shapely.Point(0.0, 0.0))
+    assert len(out[0].members) == len(_ring(body, 0).members) + len(_ring(tip, 0).members)
+
+
+def test_a_slit_tip_closed_apart_is_cut_into_its_outline():
+    body = shapely.difference(_box(-1, 1, -0.5, 0.5), _box(0.7, 1.1, -W, W))
+    tip = _box(0.4, 0.67, -T, T)
+    out = rejoin_split_tips([_ring(body, 0), _ring(tip, 1000)], RADIUS)
+    assert len(out) == 1 and out[0].closed
+    polygon = shapely.Polygon(out[0].points)
+    assert polygon.is_valid
+    assert not polygon.covers(shapely.Point(0.45, 0.0))  # the slit runs on to its tip
+    assert polygon.covers(shapely.Point(0.3, 0.0))
+
+
+def test_a_thin_ring_beside_a_smooth_wall_is_left_apart():
+    body = _box(-1, 1, -0.5, 0.5)
+    hole = _box(-0.3, 0.3, 0.5 - 0.8 * RADIUS - 2 * T, 0.5 - 0.8 * RADIUS)
+    rings = [_ring(body, 0), _ring(hole, 1000)]
+    out = rejoin_split_tips(rings, RADIUS)
+    assert len(out) == 2 and all(c.closed for c in out)
