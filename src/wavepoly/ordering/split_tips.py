@@ -37,30 +37,33 @@ def rejoin_split_tips(contours: list[OrderedContour], radius: float) -> list[Ord
     contours : the ordered contours; only the closed ones are read.
     radius : the neighbourhood radius of the ordering.
     """
-    out = list(contours)
-    for b in sorted((k for k, c in enumerate(contours) if c.closed),
-                    key=lambda k: len(contours[k].points)):
+    rings = [k for k, c in enumerate(contours) if c.closed]
+    if len(rings) < 2:
+        return contours
+    out: list[OrderedContour | None] = list(contours)
+    lines = [shapely.LinearRing(contours[k].points) for k in rings]
+    tree = shapely.STRtree(lines)
+    for i in np.argsort([len(contours[k].points) for k in rings], kind="stable"):
+        b = rings[i]
         if out[b] is None or not _thin(out[b].points, radius):
             continue
-        for a in _nearby_rings(out, b, radius):
-            joined = _joined(out[a], out[b], radius)
+        near = [j for j in tree.query(lines[i], predicate="dwithin",
+                                      distance=TIP_GAP * radius)
+                if j != i and out[rings[j]] is not None]
+        for j in sorted(near, key=lambda j: shapely.distance(lines[i], lines[j])):
+            joined = _joined(out[rings[j]], out[b], radius)
             if joined is not None:
-                out[a], out[b] = joined, None
+                out[rings[j]], out[b] = joined, None
+                lines[j] = shapely.LinearRing(joined.points)  # an outline grows by its tip
+                tree = shapely.STRtree(lines)
                 break
     return [c for c in out if c is not None]
 
 
 def _thin(xy: FloatArray, radius: float) -> bool:
+    """Whether a ring's mean width is at most `TIP_WIDTH` radii."""
     ring = shapely.Polygon(xy)
     return ring.is_valid and 2 * ring.area <= TIP_WIDTH * radius * ring.length
-
-
-def _nearby_rings(contours: list[OrderedContour | None], b: int, radius: float) -> list[int]:
-    """The other closed rings within `TIP_GAP` radii of ring ``b``, the nearest first."""
-    ring = shapely.LinearRing(contours[b].points)
-    near = [(shapely.distance(ring, shapely.LinearRing(c.points)), k)
-            for k, c in enumerate(contours) if k != b and c is not None and c.closed]
-    return [k for d, k in sorted(near) if d <= TIP_GAP * radius]
 
 
 def _joined(outline: OrderedContour, tip: OrderedContour, radius: float
