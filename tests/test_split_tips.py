@@ -23,13 +23,19 @@ def _box(x0, x1, y0, y1):
     return shapely.box(x0, y0, x1, y1)
 
 
-def test_a_limb_tip_closed_apart_is_joined_to_its_outline():
-    body = shapely.union(_box(-1, 1, -0.5, 0.5), _box(0.9, 1.3, -W, W))
-    tip = _box(1.33, 1.6, -T, T)
+def _joined(body: shapely.Polygon, tip: shapely.Polygon):
+    """The contours with the tip rejoined, asserted one valid closed ring, and its polygon."""
     out = rejoin_split_tips([_ring(body, 0), _ring(tip, 1000)], RADIUS)
     assert len(out) == 1 and out[0].closed
     polygon = shapely.Polygon(out[0].points)
     assert polygon.is_valid
+    return out, polygon
+
+
+def test_a_limb_tip_closed_apart_is_joined_to_its_outline():
+    body = shapely.union(_box(-1, 1, -0.5, 0.5), _box(0.9, 1.3, -W, W))
+    tip = _box(1.33, 1.6, -T, T)
+    out, polygon = _joined(body, tip)
     assert polygon.covers(shapely.Point(1.59, 0.0)) and polygon.covers(shapely.Point(0.0, 0.0))
     assert len(out[0].members) == len(_ring(body, 0).members) + len(_ring(tip, 0).members)
 
@@ -37,10 +43,7 @@ def test_a_limb_tip_closed_apart_is_joined_to_its_outline():
 def test_a_slit_tip_closed_apart_is_cut_into_its_outline():
     body = shapely.difference(_box(-1, 1, -0.5, 0.5), _box(0.7, 1.1, -W, W))
     tip = _box(0.4, 0.67, -T, T)
-    out = rejoin_split_tips([_ring(body, 0), _ring(tip, 1000)], RADIUS)
-    assert len(out) == 1 and out[0].closed
-    polygon = shapely.Polygon(out[0].points)
-    assert polygon.is_valid
+    _, polygon = _joined(body, tip)
     assert not polygon.covers(shapely.Point(0.45, 0.0))  # the slit runs on to its tip
     assert polygon.covers(shapely.Point(0.3, 0.0))
 

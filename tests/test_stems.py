@@ -134,8 +134,7 @@ def test_a_chord_inside_a_ring_beside_its_wall_is_left_out_of_the_outline():
               OrderedContour(np.vstack([pts[300::5], pts[:1]]), False, np.arange(300, 600)),
               OrderedContour(chord, False, np.arange(0))]
     out = close_outlines(pieces, pts, 0.05)
-    assert [c.closed for c in out] == [True]
-    assert shapely.Polygon(out[0].points).is_valid
+    _one_simple_ring(out)
     assert np.abs(np.linalg.norm(out[0].points, axis=1) - 1).max() < 1e-3  # the chord: 0.97
 
 
@@ -159,8 +158,15 @@ def test_a_ring_in_two_pieces_whose_ends_stop_apart_becomes_one_ring():
     pieces = [OrderedContour(pts[5:296:5], False, np.arange(300)),
               OrderedContour(pts[305:596:5], False, np.arange(300, 600))]
     out = close_outlines(pieces, pts, 0.05)
+    _one_simple_ring(out)
+
+
+def _one_simple_ring(out: list[OrderedContour]) -> shapely.Polygon:
+    """The one contour of ``out``, asserted closed and a valid polygon."""
     assert [c.closed for c in out] == [True]
-    assert shapely.Polygon(out[0].points).is_valid
+    polygon = shapely.Polygon(out[0].points)
+    assert polygon.is_valid
+    return polygon
 
 
 def _ring_with_slit(radius: float):
@@ -183,8 +189,7 @@ def test_a_speck_at_a_junction_does_not_keep_the_outline_open():
     speck = OrderedContour(np.array([[1.0, 0.2 * radius], [1.0, -0.2 * radius]]), False,
                            np.arange(0))
     out = close_outlines([*pieces, speck], pts, radius)
-    assert [c.closed for c in out] == [True]
-    assert shapely.Polygon(out[0].points).is_valid
+    _one_simple_ring(out)
     assert np.array_equal(out[0].members, np.arange(600))
 
 
@@ -199,9 +204,7 @@ def test_a_slit_whose_root_the_march_drew_twice_is_walked_out_and_back():
               OrderedContour(np.linspace([0.85, 0.0], [0.5, 0.0], 15), False,
                              np.concatenate([np.arange(630, 700), np.arange(730, 800)]))]
     out = close_outlines([*pieces, *bubble], pts, radius)
-    assert [c.closed for c in out] == [True]
-    polygon = shapely.Polygon(out[0].points)
-    assert polygon.is_valid
+    polygon = _one_simple_ring(out)
     # the outline runs down the slit to its tip
     assert shapely.distance(polygon.exterior, shapely.Point(0.5, 0.0)) < radius
     assert np.array_equal(out[0].members, np.arange(800))
@@ -219,8 +222,7 @@ def test_a_stem_holding_one_wall_where_a_slit_parts_does_not_keep_the_outline_op
                             np.arange(600, 800)),
              OrderedContour(wall[::2], False, np.arange(800, 814))]
     out = close_outlines([*pieces, *stems], pts, radius)
-    assert [c.closed for c in out] == [True]
-    assert shapely.Polygon(out[0].points).is_valid
+    _one_simple_ring(out)
     assert np.array_equal(out[0].members, np.arange(814))
 
 
@@ -276,8 +278,7 @@ def test_a_stem_that_holds_two_walls_over_less_than_half_of_it_closes_the_outlin
         out = close_outlines([*pieces, stem], pts, radius)
         assert [c.closed for c in out] == ([True] if closes else [False, False, False])
         if closes:
-            polygon = shapely.Polygon(out[0].points)
-            assert polygon.is_valid
+            polygon = _one_simple_ring(out)
             assert shapely.distance(polygon.exterior, shapely.Point(0.5, 0.0)) < radius
 
 
@@ -295,9 +296,7 @@ def test_a_stem_that_zigzags_between_its_walls_is_walked_along_its_middle():
     zigzag[0], zigzag[-1] = [1.0, 0.0], [0.5, 0.0]
     out = close_outlines([*pieces, OrderedContour(zigzag, False, np.arange(600, 800))], pts,
                          radius)
-    assert [c.closed for c in out] == [True]
-    polygon = shapely.Polygon(out[0].points)
-    assert polygon.is_valid
+    polygon = _one_simple_ring(out)
     assert shapely.distance(polygon.exterior, shapely.Point(0.5, 0.0)) < radius
 
 
@@ -323,8 +322,7 @@ def test_a_stem_running_on_from_where_the_ring_turns_back_needs_fewer_points():
     stem = OrderedContour(np.linspace([0.8, 0.0], [0.5, 0.0], 13), False,
                           np.arange(n_ring, len(pts)))
     out = close_outlines([*pieces, stem], pts, radius)
-    assert [c.closed for c in out] == [True]
-    assert shapely.Polygon(out[0].points).is_valid
+    _one_simple_ring(out)
     assert shapely.distance(shapely.LinearRing(out[0].points), shapely.Point(0.5, 0.0)) < radius
     ring, smooth = _ring_with_slit(radius)
     x = np.linspace(0.5, 1.0, 31)

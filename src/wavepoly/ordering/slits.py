@@ -11,6 +11,7 @@ the cycle turns back there (a hairpin) and the stem runs on between its arms.
 from __future__ import annotations
 
 import numpy as np
+import shapely
 
 from ..geometry import nearest_of_segments
 from ..types import FloatArray, IntArray
@@ -110,10 +111,7 @@ def runs_on_from_hairpin(back: FloatArray, ahead: FloatArray, out: FloatArray, r
 
 def _point_along(xy: FloatArray, distance: float) -> FloatArray:
     """The point ``distance`` along a polyline from its start (its end, if shorter)."""
-    arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(xy, axis=0), axis=1))])
-    if arc[-1] <= distance:
-        return xy[-1]
-    return np.array([np.interp(distance, arc, xy[:, d]) for d in range(2)])
+    return np.asarray(shapely.LineString(xy).interpolate(distance).coords[0])
 
 
 def _denser_half(count: FloatArray, seg_length: FloatArray, line: IntArray, window: float
