@@ -210,6 +210,26 @@ def test_a_slit_whose_root_the_march_drew_twice_is_walked_out_and_back():
     assert np.array_equal(out[0].members, np.arange(800))
 
 
+def test_a_slit_whose_walls_the_march_followed_apart_is_walked_along_their_middle():
+    # the slit's walls bow 1.4 radii apart over 8 radii by its root (the march followed each
+    # as a chain of its own, between the same two junctions) and merge into a stem beyond
+    radius = 0.05
+    pts, pieces = _ring_with_slit(radius)
+    x = np.linspace(1.0, 0.6, 41)
+    bow = 0.7 * radius * np.sin(np.pi * (1.0 - x) / 0.4)
+    walls = [np.column_stack([x, s * bow]) for s in (1, -1)]
+    tip = np.linspace([0.6, 0.0], [0.3, 0.0], 31)
+    pts = np.vstack([pts[:600], *walls, tip + [0, 0.2 * radius], tip - [0, 0.2 * radius]])
+    slit = [OrderedContour(walls[0][::4], False, np.arange(600, 641)),
+            OrderedContour(walls[1][::4], False, np.arange(641, 682)),
+            OrderedContour(tip[::3], False, np.arange(682, 744))]
+    out = close_outlines([*pieces, *slit], pts, radius)
+    polygon = _one_simple_ring(out)
+    assert shapely.distance(polygon.exterior, shapely.Point(0.3, 0.0)) < radius
+    assert shapely.distance(shapely.points(pts), polygon.exterior).max() <= radius
+    assert np.array_equal(out[0].members, np.arange(744))
+
+
 def test_a_stem_holding_one_wall_where_a_slit_parts_does_not_keep_the_outline_open():
     # a slit's stem holds both walls; a second, short stem (2.8 radii) one wall, as where a
     # wedge slit's walls part: together they hold more than twice the ring's points per

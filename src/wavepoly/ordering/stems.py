@@ -45,11 +45,14 @@ INNER_REACH = 2.0
 #: march left two or three nodes by the junction, and both their ends met it.
 SPECK_LENGTH = 1.0
 #: Two edges between the same two nodes that lie within this many radii of each other are one
-#: wall drawn twice (a bubble), not a ring: a ring that thin is a stem, and walked as one.
-BUBBLE_WIDTH = 1.0
+#: wall drawn twice, or a slit's two walls followed apart (a bubble), not a ring: a ring that
+#: thin is a stem, and walked as one. The silhouettes' slits part 1.1-1.45 radii where the
+#: march followed their walls apart (at 1.0 such bubbles kept 4 of 300 outlines open).
+BUBBLE_WIDTH = 1.5
 #: ... and no longer than this many radii: the march's two chains by a junction, a few nodes
-#: each (longer ones are a chord beside a wall, whose region's boundary `outer_edges` finds).
-BUBBLE_LENGTH = 4.0
+#: each, or a slit's walls followed apart (8-10 radii on the silhouettes). Longer ones are a
+#: chord beside a wall, whose region's boundary `outer_edges` finds.
+BUBBLE_LENGTH = 12.0
 #: Half the width between a stem's two walls, in radii: at least this, so that the polygon has
 #: an inside where the walls converge...
 MIN_HALF_WIDTH = 0.05
@@ -195,10 +198,13 @@ def _speck(edge: Edge, radius: float) -> bool:
 
 
 def _without_bubbles(comp: list[int], edges: list[Edge], radius: float) -> list[int]:
-    """The component with each bubble collapsed: of two edges between the same two nodes, no
-    longer than `BUBBLE_LENGTH` radii and within `BUBBLE_WIDTH` radii of each other, the longer
-    is left out (the march made two chains of one wall by a junction; its points still belong
-    to the outline). A longer chord beside a wall is left to `outer_edges`."""
+    """The component with each bubble collapsed: two edges between the same two nodes, no
+    longer than `BUBBLE_LENGTH` radii and within `BUBBLE_WIDTH` radii of each other, become
+    one edge along the middle between them (in ``edges``, in place of the first). They are one
+    wall that the march drew twice by a junction, or a slit's two walls that it followed
+    apart for a few radii; their points still belong to the outline, and a stem through the
+    bubble is walked out and back along the middle. A longer chord beside a wall is left to
+    `outer_edges`."""
     out = list(comp)
     for i, a in enumerate(comp):
         for b in comp[i + 1:]:
@@ -209,8 +215,19 @@ def _without_bubbles(comp: list[int], edges: list[Edge], radius: float) -> list[
             la, lb = shapely.LineString(ea.xy), shapely.LineString(eb.xy)
             if (max(la.length, lb.length) <= BUBBLE_LENGTH * radius
                     and la.hausdorff_distance(lb) <= BUBBLE_WIDTH * radius):
-                out.remove(a if la.length > lb.length else b)
+                other = eb.xy if eb.start == ea.start else eb.xy[::-1]
+                edges[a] = Edge(_middle(ea.xy, other), ea.start, ea.end, ea.piece)
+                out.remove(b)
     return out
+
+
+def _middle(a: FloatArray, b: FloatArray) -> FloatArray:
+    """The polyline halfway between two with the same ends, point by point at equal shares of
+    their lengths (as many points as the longer has)."""
+    share = np.linspace(0.0, 1.0, max(len(a), len(b)))
+    along = [shapely.line_interpolate_point(shapely.LineString(xy), share, normalized=True)
+             for xy in (a, b)]
+    return (shapely.get_coordinates(along[0]) + shapely.get_coordinates(along[1])) / 2
 
 
 def _inner_covered(ring: FloatArray, inner: list[int], edges: list[Edge], members: FloatArray,
