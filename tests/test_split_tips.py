@@ -54,3 +54,20 @@ def test_a_thin_ring_beside_a_smooth_wall_is_left_apart():
     rings = [_ring(body, 0), _ring(hole, 1000)]
     out = rejoin_split_tips(rings, RADIUS)
     assert len(out) == 2 and all(c.closed for c in out)
+
+
+def test_a_thin_limb_closed_at_its_root_is_joined_to_its_outline():
+    # the march closed the body across the limb's root, and the limb on its own a radius off
+    body = _box(-1, 1, -0.5, 0.5)
+    limb = shapely.Polygon([(0.2, 0.5 + RADIUS), (0.2 + 2 * T, 0.5 + RADIUS),
+                            (0.6 + 2 * T, 1.1), (0.6, 1.1)])
+    out, polygon = _joined(body, limb)
+    assert polygon.covers(shapely.Point(0.6 + T, 1.09)) and polygon.covers(shapely.Point(0, 0))
+    assert len(out[0].members) == len(_ring(body, 0).members) + len(_ring(limb, 0).members)
+
+
+def test_a_thin_part_lying_along_an_outline_is_left_apart():
+    body = _box(-1, 1, -0.5, 0.5)
+    bar = _box(-0.5, 0.5, 0.5 + RADIUS, 0.5 + RADIUS + 2 * T)
+    out = rejoin_split_tips([_ring(body, 0), _ring(bar, 1000)], RADIUS)
+    assert len(out) == 2 and all(c.closed for c in out)

@@ -4,9 +4,11 @@ Where a slit narrows, or a limb thins out, the march may follow the walls of the
 on its own and turn back where they come within a radius or two (a hairpin of the outline),
 while beyond it the narrow tip, its two walls merged into one chain, closes on itself as a thin
 ring. The outline and the tip are one: the thin ring lies within `TIP_GAP` radii of the
-hairpin and runs on the other way from it (`slits.runs_on_from_hairpin`). Joined across the gap
-by the hull of their facing vertices, the boundary of the union (a limb's tip, outside the
-outline) or of the difference (a slit's tip, inside it) is the one outline.
+hairpin and runs on the other way from it (`slits.runs_on_from_hairpin`). A thin limb may also
+close on itself at its root, where the march closed the outline across the root a radius off:
+the thin ring then lies outside the outline, within `ROOT_GAP` radii, and stands out of it.
+Joined across the gap by the hull of their facing vertices, the boundary of the union (a limb's
+tip, outside the outline) or of the difference (a slit's tip, inside it) is the one outline.
 """
 
 from __future__ import annotations
@@ -23,6 +25,14 @@ TIP_GAP = 3.0
 #: A tip ring is thin: its mean width (twice its area over its perimeter) is at most this
 #: many radii, two walls the march followed as one chain, or a limb's tip as narrow.
 TIP_WIDTH = 2.0
+#: A thin ring outside an outline whose nearest vertex lies within this many radii of it, and
+#: that runs away from it (`ROOT_AWAY`), is a thin limb that the march closed at its root, as
+#: it closed the outline across the root: the two closures lie within a radius or so.
+ROOT_GAP = 1.5
+#: ... runs away: its far end lies at least this share of its distance from the join away from
+#: the outline (30 degrees or steeper). A thin part lying along the outline, a separate one,
+#: runs beside it.
+ROOT_AWAY = 0.5
 #: The bridge spans the vertices of each ring within this many radii of the gap's ends.
 BRIDGE_REACH = 1.0
 #: ... padded by this many radii (a twentieth of the tolerance: no shape to speak of).
@@ -66,10 +76,22 @@ def _thin(xy: FloatArray, radius: float) -> bool:
     return ring.is_valid and 2 * ring.area <= TIP_WIDTH * radius * ring.length
 
 
+def _limb_root(outline: shapely.Polygon, tip: shapely.Polygon, pa: FloatArray, pb: FloatArray,
+               far: FloatArray, radius: float) -> bool:
+    """Whether the thin ring ``tip`` stands out of ``outline`` as a limb closed at its root:
+    outside it, its nearest point ``pb`` within `ROOT_GAP` radii of the outline's ``pa``,
+    and its far end ``far`` running away from it (`ROOT_AWAY`)."""
+    if outline.intersects(tip) or np.linalg.norm(pb - pa) > ROOT_GAP * radius:
+        return False
+    away = shapely.distance(outline.exterior, shapely.Point(far))
+    return bool(away >= ROOT_AWAY * np.linalg.norm(far - pb))
+
+
 def _joined(outline: OrderedContour, tip: OrderedContour, radius: float
             ) -> OrderedContour | None:
-    """The outline with the tip joined at its hairpin, or None where the tip does not run on
-    from a hairpin of the outline, or the join is no simple polygon."""
+    """The outline with the tip joined at its hairpin or root, or None where the tip neither
+    runs on from a hairpin of the outline nor stands out of it (`_limb_root`), or the join
+    is no simple polygon."""
     a_xy, b_xy = outline.points, tip.points
     pa, pb = (np.asarray(p) for p in shapely.shortest_line(
         shapely.LinearRing(a_xy), shapely.LinearRing(b_xy)).coords)
@@ -77,14 +99,17 @@ def _joined(outline: OrderedContour, tip: OrderedContour, radius: float
     n = len(a_xy)
     ahead, back = a_xy[(ia + np.arange(n)) % n], a_xy[(ia - np.arange(n)) % n]
     far = b_xy[np.argmax(np.linalg.norm(b_xy - pb, axis=1))]
-    if not runs_on_from_hairpin(back, ahead, np.array([a_xy[ia], far]), radius):
+    a_poly, b_poly = shapely.Polygon(a_xy), shapely.Polygon(b_xy)
+    if not a_poly.is_valid:  # the fit's selection may yet make it valid; no set operations
+        return None
+    if not (runs_on_from_hairpin(back, ahead, np.array([a_xy[ia], far]), radius)
+            or _limb_root(a_poly, b_poly, pa, pb, far, radius)):
         return None
     reach = BRIDGE_REACH * radius
     ends = np.vstack([pa, pb, a_xy[np.linalg.norm(a_xy - pa, axis=1) <= reach],
                       b_xy[np.linalg.norm(b_xy - pb, axis=1) <= reach]])
     # padded, so that it overlaps each ring rather than touching it at a point
     bridge = shapely.MultiPoint(ends).convex_hull.buffer(BRIDGE_PAD * radius, join_style="mitre")
-    a_poly, b_poly = shapely.Polygon(a_xy), shapely.Polygon(b_xy)
     if not isinstance(bridge, shapely.Polygon):
         return None
     if a_poly.contains(b_poly):  # a slit's tip: cut out of the outline
