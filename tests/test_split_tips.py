@@ -71,3 +71,14 @@ def test_a_thin_part_lying_along_an_outline_is_left_apart():
     bar = _box(-0.5, 0.5, 0.5 + RADIUS, 0.5 + RADIUS + 2 * T)
     out = rejoin_split_tips([_ring(body, 0), _ring(bar, 1000)], RADIUS)
     assert len(out) == 2 and all(c.closed for c in out)
+
+
+def test_a_slit_closed_across_its_mouth_is_cut_into_its_outline():
+    # the march closed the outline across the slit's mouth, and the slit's walls as a ring
+    # of their own a radius in (the gap between a horse's front legs)
+    body = _box(-1, 1, -0.5, 0.5)
+    slit = _box(-2 * T, 2 * T, -0.5 + RADIUS, 0.2)
+    _, polygon = _joined(body, slit)
+    assert not polygon.covers(shapely.Point(0.0, 0.1))  # the slit is cut in
+    assert not polygon.covers(shapely.Point(0.0, -0.49))  # and open at its mouth
+    assert polygon.covers(shapely.Point(0.5, 0.0))
