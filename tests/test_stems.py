@@ -230,6 +230,26 @@ def test_a_slit_whose_walls_the_march_followed_apart_is_walked_along_their_middl
     assert np.array_equal(out[0].members, np.arange(744))
 
 
+def test_a_slit_whose_tip_met_the_wall_beyond_it_is_walked_out_and_back():
+    # the slit runs across the ring to 2 radii from its wall beyond, where the stem's dead
+    # end met the wall: the stem became a chord across the ring
+    radius = 0.05
+    pts, pieces = _ring_with_slit(radius)
+    tip = 0.9 * np.array([np.cos(np.radians(230)), np.sin(np.radians(230))])
+    t = np.linspace(0.0, 1.0, 380)[:, None]
+    d = (tip - [1.0, 0.0]) / np.linalg.norm(tip - [1.0, 0.0])
+    side = 0.2 * radius * np.array([-d[1], d[0]])
+    axis = [1.0, 0.0] + t * (tip - [1.0, 0.0])
+    pts = np.vstack([pts[:600], axis + side, axis - side])
+    stem = OrderedContour(axis[::5], False, np.arange(600, 1360))
+    out = close_outlines([*pieces, stem], pts, radius)
+    polygon = _one_simple_ring(out)
+    assert shapely.distance(polygon.exterior, shapely.Point(tip)) < radius
+    assert not polygon.covers(shapely.Point(*axis[190, :]))  # the slit is cut in, not bridged
+    assert shapely.distance(shapely.points(pts), polygon.exterior).max() <= radius
+    assert np.array_equal(out[0].members, np.arange(1360))
+
+
 def test_a_stem_holding_one_wall_where_a_slit_parts_does_not_keep_the_outline_open():
     # a slit's stem holds both walls; a second, short stem (2.8 radii) one wall, as where a
     # wedge slit's walls part: together they hold more than twice the ring's points per

@@ -53,6 +53,9 @@ BUBBLE_WIDTH = 1.5
 #: each, or a slit's walls followed apart (8-10 radii on the silhouettes). Longer ones are a
 #: chord beside a wall, whose region's boundary `outer_edges` finds.
 BUBBLE_LENGTH = 12.0
+#: A chord walked as a stem ends where it comes this many radii from the cycle: a slit's tip
+#: whose end met the wall beside it is its walls' half-width or so from that wall.
+CHORD_TIP = 1.0
 #: Half the width between a stem's two walls, in radii: at least this, so that the polygon has
 #: an inside where the walls converge...
 MIN_HALF_WIDTH = 0.05
@@ -159,6 +162,17 @@ def _outline(comp: list[int], edges: list[Edge], members: FloatArray, radius: fl
     paths = _stem_paths(stems, edges, set(degree))
     if paths is None:
         return None
+    ring = _ring_if_slits(walk, paths, members, radius)
+    if not inner or (ring is not None and _inner_covered(ring, inner, edges, members, radius)):
+        return ring
+    return _chord_as_stem(walk, paths, inner, edges, members, radius)
+
+
+def _ring_if_slits(walk: list[tuple[int, FloatArray]], paths: dict[int, list[FloatArray]],
+                   members: FloatArray, radius: float) -> FloatArray | None:
+    """The cycle walked with its stems out and back (`_ring_with_stems`, again along their
+    averaged paths where the first walk crosses itself), or None where the stems are strokes
+    (`stems_are_slits`)."""
     if paths and not stems_are_slits(paths, walk, members, radius):
         return None
     tree = cKDTree(members)
@@ -168,9 +182,39 @@ def _outline(comp: list[int], edges: list[Edge], members: FloatArray, radius: fl
         again = _ring_with_stems(walk, smooth, tree, radius)
         if again is not None and shapely.Polygon(again).is_valid:
             ring = again
-    if ring is None or not inner:
-        return ring
-    return ring if _inner_covered(ring, inner, edges, members, radius) else None
+    return ring
+
+
+def _chord_as_stem(walk: list[tuple[int, FloatArray]], paths: dict[int, list[FloatArray]],
+                   inner: list[int], edges: list[Edge], members: FloatArray, radius: float
+                   ) -> FloatArray | None:
+    """The ring with the one inner edge walked as a stem from either of its ends, or None.
+
+    Where a slit narrows to its tip by a wall of the outline (the gap between a horse's tail
+    and its leg), the stem's dead end met that wall (`piece_graph.T_REACH`) and the stem
+    became a chord, whose points the outline round it leaves out. Walked as a stem from its
+    other end, up to where it comes within `CHORD_TIP` radii of the cycle, it is the slit."""
+    if len(inner) != 1:
+        return None
+    edge = edges[inner[0]]
+    on_cycle = {v for v, _ in walk}
+    cycle = shapely.MultiLineString([xy for _, xy in walk])
+    for root, xy in ((edge.start, edge.xy), (edge.end, edge.xy[::-1])):
+        if root not in on_cycle:
+            continue
+        near = shapely.distance(shapely.points(xy), cycle) <= CHORD_TIP * radius
+        far = np.flatnonzero(~near)
+        if not len(far):
+            continue
+        stem = xy[:far[-1] + 1]
+        if len(stem) < 3:
+            continue
+        more = {v: list(ps) for v, ps in paths.items()}
+        more.setdefault(root, []).append(stem)
+        ring = _ring_if_slits(walk, more, members, radius)
+        if ring is not None and shapely.Polygon(ring).is_valid:
+            return ring
+    return None
 
 
 def _thin_ring(comp: list[int], edges: list[Edge], members: FloatArray, radius: float,
