@@ -340,6 +340,24 @@ def test_a_stem_that_zigzags_between_its_walls_is_walked_along_its_middle():
     assert shapely.distance(polygon.exterior, shapely.Point(0.5, 0.0)) < radius
 
 
+def test_a_lone_piece_that_zigzags_between_two_walls_is_walked_along_its_middle():
+    # a thin hole 1.2 radii wide, whose walls the march zigzagged between as one chain,
+    # stepping back a radius now and then (the zigzag half as long again as the hole: its
+    # walls sampled 1.5 x as densely as the ring)
+    radius = 0.05
+    ring, pieces = _ring_with_slit(radius)
+    x = np.linspace(-0.4, 0.4, 120)
+    walls = np.vstack([np.column_stack([x, np.full(120, s * 0.6 * radius)]) for s in (-1, 1)])
+    k = np.arange(17)
+    back = 1.0 * radius * (-1.0) ** k * (k % 3 == 1)
+    zigzag = np.column_stack([np.linspace(-0.4, 0.4, 17) + back, 0.6 * radius * (-1.0) ** k])
+    everything = np.vstack([ring[:600], walls])
+    out = close_outlines([*pieces, OrderedContour(zigzag, False, np.arange(600, 840))],
+                         everything, radius)
+    assert sorted(c.closed for c in out) == [True, True]
+    assert all(shapely.Polygon(c.points).is_valid for c in out)
+
+
 def test_a_stem_running_on_from_where_the_ring_turns_back_needs_fewer_points():
     # a slit 2 radii wide at its mouth, where the ring ran in along each wall and turned
     # back; on from there, the stem holds 1.3 x the ring's points per length (a bitmap's

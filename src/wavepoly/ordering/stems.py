@@ -221,16 +221,21 @@ def _thin_ring(comp: list[int], edges: list[Edge], members: FloatArray, radius: 
                density: float) -> FloatArray | None:
     """A lone piece that holds `STEM_DENSITY` x the points per length of the scan's contours
     (``density``) as a ring round it, walked out and back: a hole or a part thinner than the
-    radius, whose two walls the march followed as one chain. A line drawing's lone stroke
-    holds as many points as its rings, and stays open."""
+    radius, whose two walls the march followed as one chain (walked again along its averaged
+    path where it zigzags between them and the walk crosses itself). A line drawing's lone
+    stroke holds as many points as its rings, and stays open."""
     if len(comp) != 1 or density <= 0:
         return None
     path = edges[comp[0]].xy
     length = polyline_length(path, False)
     if len(path) < 3 or len(members) < STEM_DENSITY * density * max(length, radius):
         return None
-    ring = _out_and_back(path, -1.0, cKDTree(members), radius)
-    return ring if shapely.Polygon(ring).is_valid else None
+    tree = cKDTree(members)
+    for walked in (path, _smoothed(path)):  # again along its middle, where it zigzags
+        ring = _out_and_back(walked, -1.0, tree, radius)
+        if shapely.Polygon(ring).is_valid:
+            return ring
+    return None
 
 
 def _speck(edge: Edge, radius: float) -> bool:
