@@ -56,16 +56,6 @@ def test_a_thin_ring_beside_a_smooth_wall_is_left_apart():
     assert len(out) == 2 and all(c.closed for c in out)
 
 
-def test_a_thin_limb_closed_at_its_root_is_joined_to_its_outline():
-    # the march closed the body across the limb's root, and the limb on its own a radius off
-    body = _box(-1, 1, -0.5, 0.5)
-    limb = shapely.Polygon([(0.2, 0.5 + RADIUS), (0.2 + 2 * T, 0.5 + RADIUS),
-                            (0.6 + 2 * T, 1.1), (0.6, 1.1)])
-    out, polygon = _joined(body, limb)
-    assert polygon.covers(shapely.Point(0.6 + T, 1.09)) and polygon.covers(shapely.Point(0, 0))
-    assert len(out[0].members) == len(_ring(body, 0).members) + len(_ring(limb, 0).members)
-
-
 def test_a_thin_part_lying_along_an_outline_is_left_apart():
     body = _box(-1, 1, -0.5, 0.5)
     bar = _box(-0.5, 0.5, 0.5 + RADIUS, 0.5 + RADIUS + 2 * T)
@@ -73,12 +63,11 @@ def test_a_thin_part_lying_along_an_outline_is_left_apart():
     assert len(out) == 2 and all(c.closed for c in out)
 
 
-def test_a_slit_closed_across_its_mouth_is_cut_into_its_outline():
-    # the march closed the outline across the slit's mouth, and the slit's walls as a ring
-    # of their own a radius in (the gap between a horse's front legs)
+def test_a_thin_hole_running_in_from_near_a_wall_is_left_apart():
+    # f3's small ring lies a radius inside its outline's wall (2.3 tolerances in the truth):
+    # a hole of its own, not a slit whose mouth the march closed across
     body = _box(-1, 1, -0.5, 0.5)
-    slit = _box(-2 * T, 2 * T, -0.5 + RADIUS, 0.2)
-    _, polygon = _joined(body, slit)
-    assert not polygon.covers(shapely.Point(0.0, 0.1))  # the slit is cut in
-    assert not polygon.covers(shapely.Point(0.0, -0.49))  # and open at its mouth
-    assert polygon.covers(shapely.Point(0.5, 0.0))
+    hole = shapely.Polygon([(-0.2, -0.5 + RADIUS), (-0.2 + 0.6 * RADIUS, -0.5 + RADIUS),
+                            (0.1, -0.2), (0.1 - 0.6 * RADIUS, -0.2)])
+    out = rejoin_split_tips([_ring(body, 0), _ring(hole, 1000)], RADIUS)
+    assert len(out) == 2 and all(c.closed for c in out)

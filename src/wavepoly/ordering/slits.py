@@ -100,16 +100,16 @@ def runs_on_from_hairpin(back: FloatArray, ahead: FloatArray, out: FloatArray, r
     root = ahead[0]
     arms = np.zeros(2)
     for arm in (back, ahead):
-        d = point_along(arm, reach) - root
+        d = _point_along(arm, reach) - root
         arms += d / max(np.linalg.norm(d), 1e-300)
     if np.linalg.norm(arms) < 2 * np.cos(np.radians(HAIRPIN_ARMS / 2)):
         return False
     arms /= np.linalg.norm(arms)
-    d = point_along(out, reach) - root
+    d = _point_along(out, reach) - root
     return bool(d @ arms <= -np.cos(np.radians(HAIRPIN_STEM)) * np.linalg.norm(d))
 
 
-def point_along(xy: FloatArray, distance: float) -> FloatArray:
+def _point_along(xy: FloatArray, distance: float) -> FloatArray:
     """The point ``distance`` along a polyline from its start (its end, if shorter)."""
     return np.asarray(shapely.LineString(xy).interpolate(distance).coords[0])
 

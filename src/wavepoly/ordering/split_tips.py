@@ -4,12 +4,9 @@ Where a slit narrows, or a limb thins out, the march may follow the walls of the
 on its own and turn back where they come within a radius or two (a hairpin of the outline),
 while beyond it the narrow tip, its two walls merged into one chain, closes on itself as a thin
 ring. The outline and the tip are one: the thin ring lies within `TIP_GAP` radii of the
-hairpin and runs on the other way from it (`slits.runs_on_from_hairpin`). A thin limb or slit
-may also close on itself at its root, where the march closed the outline across the root (or
-the slit's mouth) a radius off: the thin ring then lies within `ROOT_GAP` radii of the outline,
-outside it and standing out of it (a limb), or inside it and running in across it (a slit).
-Joined across the gap by the hull of their facing vertices, the boundary of the union (a limb's
-tip, outside the outline) or of the difference (a slit's tip, inside it) is the one outline.
+hairpin and runs on the other way from it (`slits.runs_on_from_hairpin`). Joined across the gap
+by the hull of their facing vertices, the boundary of the union (a limb's tip, outside the
+outline) or of the difference (a slit's tip, inside it) is the one outline.
 """
 
 from __future__ import annotations
@@ -18,29 +15,14 @@ import numpy as np
 import shapely
 
 from ..types import FloatArray, OrderedContour
-from .slits import point_along, runs_on_from_hairpin
+from .slits import runs_on_from_hairpin
 
 #: A tip ring lies within this many radii of its outline's hairpin: the march stops up to
 #: 2.3 radii short of a narrowing slit (as `piece_graph.T_REACH`).
 TIP_GAP = 3.0
 #: A tip ring is thin: its mean width (twice its area over its perimeter) is at most this
-#: many radii: two walls the march followed as one chain, or a limb's tip as narrow, or a slit
-#: whose walls it followed each and closed at its mouth (the gap between the front legs of
-#: scikit-image's horse measured 2.01).
-TIP_WIDTH = 2.5
-#: A thin ring whose nearest vertex lies within this many radii of an outline is a limb or a
-#: slit that the march closed at its root, as it closed the outline across the root: the two
-#: closures lie within a radius or so...
-ROOT_GAP = 1.5
-#: ... and, outside the outline, stands out of it: its far end lies at least this share of its
-#: distance from the join away from the outline (30 degrees or steeper)...
-ROOT_AWAY = 0.5
-#: ... or, inside it (a slit whose mouth the march closed across), runs in: from the join to its
-#: far end at least this many degrees off the outline's way over `ROOT_TANGENT` radii either
-#: side (the outline runs along both sides of a slit, so its distance tells nothing). A thin
-#: part lying along the outline, a separate one, runs beside it.
-ROOT_ANGLE = 30.0
-ROOT_TANGENT = 2.0
+#: many radii, two walls the march followed as one chain, or a limb's tip as narrow.
+TIP_WIDTH = 2.0
 #: The bridge spans the vertices of each ring within this many radii of the gap's ends.
 BRIDGE_REACH = 1.0
 #: ... padded by this many radii (a twentieth of the tolerance: no shape to speak of).
@@ -84,33 +66,10 @@ def _thin(xy: FloatArray, radius: float) -> bool:
     return ring.is_valid and 2 * ring.area <= TIP_WIDTH * radius * ring.length
 
 
-def _closed_at_root(outline: shapely.Polygon, tip: shapely.Polygon, ring: FloatArray, at: int,
-                    pa: FloatArray, pb: FloatArray, far: FloatArray, radius: float) -> bool:
-    """Whether the thin ring ``tip`` is a limb or a slit closed at its root: its nearest point
-    ``pb`` within `ROOT_GAP` radii of the outline's ``pa`` (by vertex ``at`` of ``ring``),
-    and its far end ``far`` standing out of the outline (`ROOT_AWAY`: a limb) or running in
-    across the outline's way at ``pa`` (`ROOT_ANGLE`: a slit)."""
-    if np.linalg.norm(pb - pa) > ROOT_GAP * radius:
-        return False
-    out = far - pb
-    if not outline.intersects(tip):
-        away = shapely.distance(outline.exterior, shapely.Point(far))
-        return bool(away >= ROOT_AWAY * np.linalg.norm(out))
-    if not outline.contains(tip):
-        return False
-    n, reach = len(ring), ROOT_TANGENT * radius
-    way = (point_along(ring[(at + np.arange(n + 1)) % n], reach)
-           - point_along(ring[(at - np.arange(n + 1)) % n], reach))
-    sine = abs(way[0] * out[1] - way[1] * out[0]) / max(
-        np.linalg.norm(way) * np.linalg.norm(out), 1e-300)
-    return bool(sine >= np.sin(np.radians(ROOT_ANGLE)))
-
-
 def _joined(outline: OrderedContour, tip: OrderedContour, radius: float
             ) -> OrderedContour | None:
-    """The outline with the tip joined at its hairpin or root, or None where the tip neither
-    runs on from a hairpin of the outline nor stands out of it (`_limb_root`), or the join
-    is no simple polygon."""
+    """The outline with the tip joined at its hairpin, or None where the tip does not run on
+    from a hairpin of the outline, or the join is no simple polygon."""
     a_xy, b_xy = outline.points, tip.points
     pa, pb = (np.asarray(p) for p in shapely.shortest_line(
         shapely.LinearRing(a_xy), shapely.LinearRing(b_xy)).coords)
@@ -118,11 +77,10 @@ def _joined(outline: OrderedContour, tip: OrderedContour, radius: float
     n = len(a_xy)
     ahead, back = a_xy[(ia + np.arange(n)) % n], a_xy[(ia - np.arange(n)) % n]
     far = b_xy[np.argmax(np.linalg.norm(b_xy - pb, axis=1))]
+    if not runs_on_from_hairpin(back, ahead, np.array([a_xy[ia], far]), radius):
+        return None
     a_poly, b_poly = shapely.Polygon(a_xy), shapely.Polygon(b_xy)
     if not a_poly.is_valid:  # the fit's selection may yet make it valid; no set operations
-        return None
-    if not (runs_on_from_hairpin(back, ahead, np.array([a_xy[ia], far]), radius)
-            or _closed_at_root(a_poly, b_poly, a_xy, ia, pa, pb, far, radius)):
         return None
     reach = BRIDGE_REACH * radius
     ends = np.vstack([pa, pb, a_xy[np.linalg.norm(a_xy - pa, axis=1) <= reach],

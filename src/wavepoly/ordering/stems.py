@@ -47,7 +47,8 @@ SPECK_LENGTH = 1.0
 #: Two edges between the same two nodes that lie within this many radii of each other are one
 #: wall drawn twice, or a slit's two walls followed apart (a bubble), not a ring: a ring that
 #: thin is a stem, and walked as one. The silhouettes' slits part 1.1-1.45 radii where the
-#: march followed their walls apart (at 1.0 such bubbles kept 4 of 300 outlines open).
+#: march followed their walls apart (at 1.0 radius wide and 4 long, such bubbles kept 6 of
+#: 300 outlines open).
 BUBBLE_WIDTH = 1.5
 #: ... and no longer than this many radii: the march's two chains by a junction, a few nodes
 #: each, or a slit's walls followed apart (8-10 radii on the silhouettes). Longer ones are a
