@@ -411,3 +411,20 @@ def test_a_bitmap_traced_outline_with_noise_has_no_outliers(seed):
     _valid(pts, result)
     assert len(result.outliers) == 0
     assert [c.closed for c in result.contours] == [True] * len(rings)
+
+
+def test_a_slit_whose_wavelet_polygon_crosses_itself_comes_out_one_valid_outline():
+    """Silhouette 13: a slit whose walls run closer than ε for most of its length. The
+    wavelet polygon of its walls crossed itself, and the selection, which never forbids that
+    polygon's edges, kept a crossing: the outline came out in 4 open pieces. On a clean scan
+    the repaired ordered points are the simple backbone, and the selection gets the rounds it
+    needs to settle (38 vertices, not the backbone's 970)."""
+    from benchmarks.silhouettes import sample, silhouette
+
+    eps = 1 / 300  # the silhouette is 1 unit across its diagonal
+    pts = sample(silhouette(13), 3000, eps / 8, 1013)
+    result = wavepoly.fit(pts, eps)
+    _valid(pts, result)
+    assert [c.closed for c in result.contours] == [True]
+    assert len(result.outliers) == 0
+    assert len(result.contours[0].vertices) < 100

@@ -93,7 +93,8 @@ def fit(points: FloatArray, tolerance: float, *,
                                         kind="stable")):
         fixed = [contours[j] for j in near[k] if contours[j] is not None]
         contours[k], reports[k], times = fit_contour(pts, ordering.contours[k], tolerance,
-                                                     relative_tolerance, obstacle_tree(fixed))
+                                                     relative_tolerance, obstacle_tree(fixed),
+                                                     clean=ordering.clean)
         for stage, seconds in times.items():
             timings[stage] += seconds
         if progress:
@@ -293,10 +294,12 @@ def _neighbours(points: FloatArray, ordered: list[OrderedContour], tolerance: fl
 
 
 def fit_contour(points: FloatArray, oc: OrderedContour, tolerance: float,
-                relative_tolerance: float | None, obstacles: shapely.STRtree | None = None
-                ) -> tuple[Contour, ContourReport, dict[str, float]]:
+                relative_tolerance: float | None, obstacles: shapely.STRtree | None = None,
+                clean: bool = False) -> tuple[Contour, ContourReport, dict[str, float]]:
     """Decompose (§3) and reconstruct (§4) one ordered contour, verified within tolerance and
-    clear of the ``obstacles`` (the edges of contours already fixed near it).
+    clear of the ``obstacles`` (the edges of contours already fixed near it). ``clean``: the
+    scan is a clean sampling, whose ordered points may serve as a simple backbone
+    (`wavepoly.reconstruction.reconstruct_contour`).
 
     Returns the contour, its report and the seconds spent in each stage.
     """
@@ -305,7 +308,7 @@ def fit_contour(points: FloatArray, oc: OrderedContour, tolerance: float,
     pyramid = decompose_contour(oc.points, oc.closed, tolerance, relative_tolerance)
     t1 = time.perf_counter()
     rec = _best_reconstruction(pyramid, oc.points, members, tolerance, relative_tolerance,
-                               obstacles)
+                               obstacles, clean)
     times = {"decomposition": t1 - t0, "reconstruction": time.perf_counter() - t1}
     if not within(rec.max_error, tolerance):  # the repair makes this impossible; never hide it
         raise RuntimeError(f"internal error: contour error {rec.max_error} > {tolerance}")
@@ -322,13 +325,15 @@ def fit_contour(points: FloatArray, oc: OrderedContour, tolerance: float,
 
 def _best_reconstruction(pyramid: Pyramid, ordered: FloatArray, members: FloatArray,
                          tolerance: float, relative_tolerance: float | None,
-                         obstacles: shapely.STRtree | None) -> Reconstruction:
+                         obstacles: shapely.STRtree | None, clean: bool = False
+                         ) -> Reconstruction:
     if relative_tolerance is not None:
-        return reconstruct_contour(pyramid, ordered, members, tolerance, obstacles=obstacles)
+        return reconstruct_contour(pyramid, ordered, members, tolerance, obstacles=obstacles,
+                                   simple_backbone=clean)
     best = None
     for level in auto_start_levels(pyramid, tolerance):
         rec = reconstruct_contour(pyramid, ordered, members, tolerance, start_level=level,
-                                  obstacles=obstacles)
+                                  obstacles=obstacles, simple_backbone=clean)
         if best is None or len(rec.vertices) < len(best.vertices):
             best = rec
     assert best is not None

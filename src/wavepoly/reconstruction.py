@@ -27,7 +27,7 @@ import shapely
 from scipy.spatial import cKDTree
 
 from . import wavelets
-from .geometry import nearest_site, polyline_distance, segment_distance
+from .geometry import curve_line, nearest_site, polyline_distance, segment_distance
 from .kernels import neighbour_distances
 from .parameters import (
     hull_groups,
@@ -168,7 +168,8 @@ def _covered(points: FloatArray, owner: IntArray, coeffs: FloatArray, run_id: In
 
 def reconstruct_contour(pyramid: Pyramid, ordered: FloatArray, points: FloatArray,
                         tolerance: float, start_level: int | None = None,
-                        obstacles: shapely.STRtree | None = None) -> Reconstruction:
+                        obstacles: shapely.STRtree | None = None, simple_backbone: bool = False
+                        ) -> Reconstruction:
     """The concise polygon of one contour (§4), verified against its data ``points``.
 
     Parameters
@@ -180,6 +181,13 @@ def reconstruct_contour(pyramid: Pyramid, ordered: FloatArray, points: FloatArra
     start_level : level to start extracting from (default: the pyramid's coarsest).
     obstacles : edges of the contours already fixed nearby, which the polygon must not meet
         (`wavepoly.simplify.select_vertices`).
+    simple_backbone : keep the polygon simple where the ordered points are (a clean scan's):
+        the selection never forbids its backbone's edges, so where the repaired wavelet polygon
+        crosses itself (the walls of a slit closer than the tolerance) the repaired ordered
+        points are the backbone, and where the selection still ends on a crossing, the
+        backbone is the result. On a noisy scan the ordered points zigzag through the band
+        (the Freiburg map's teeth rose from 227 to 321); there a crossing is split instead
+        (`wavepoly.fit`).
 
     Notes
     -----
@@ -220,6 +228,10 @@ def reconstruct_contour(pyramid: Pyramid, ordered: FloatArray, points: FloatArra
     vertices, vparams = _near_curve(vertices, vparams, contour)
     vertices, vparams = _repair(contour, vertices, vparams)
     n_wavelet = len(vertices)
+    if simple_backbone and not _simple(vertices, closed) and _simple(ordered, closed):
+        again, again_u = _repair(contour, ordered, fine_u)
+        if _simple(again, closed):
+            vertices, vparams = again, again_u
     # the ordered points join the candidates, so the choice is never worse than the best
     # subset of ordered points; the wavelet coefficients add smoothed candidates to it
     # (an ordered point at a vertex's parameter is still new unless it is that very vertex)
@@ -235,14 +247,20 @@ def reconstruct_contour(pyramid: Pyramid, ordered: FloatArray, points: FloatArra
         hull = points[sel], params[sel]
     chosen, chosen_u = select_vertices(cand[order], cand_u[order], *hull, closed, tolerance,
                                        backbone=backbone, obstacles=obstacles)
-    # the cone test is exact up to rounding; the repaired polygon stays the fallback
+    # the cone test is exact up to rounding; the repaired polygon stays the fallback (and, for
+    # a simple backbone, where the selection's rounds ended on a crossing)
+    crossing = simple_backbone and not _simple(chosen, closed) and _simple(vertices, closed)
     if own_edge_distance(chosen, chosen_u, points, params, closed).max(initial=0.0) <= (
-            tolerance * (1 + SLACK)):
+            tolerance * (1 + SLACK)) and not crossing:
         vertices, vparams = chosen, chosen_u
     dist = polyline_distance(points, vertices, closed and len(vertices) >= 3)
     return Reconstruction(vertices, vparams, closed, gdl,
                           pyramid.coarsest if start_level is None else start_level, n_wavelet,
                           float(dist.max(initial=0.0)), float(dist.mean()) if len(dist) else 0.0)
+
+
+def _simple(xy: FloatArray, closed: bool) -> bool:
+    return bool(curve_line(xy, closed).is_simple)
 
 
 def _assemble(gdl: list[Msc], ordered: FloatArray, fine_u: FloatArray, alive_u: FloatArray,

@@ -145,8 +145,10 @@ def select_vertices(vertices: FloatArray, vparams: FloatArray, points: FloatArra
 
 
 #: Rounds of forbidding the chords that break validity and solving again; each round removes
-#: every bad chord of the current path, and real contours settle within a few.
-MAX_VALIDITY_ROUNDS = 50
+#: every bad chord of the current path, and real contours settle within a few. A slit whose
+#: walls run closer than the tolerance for a long way took 50-200 (silhouette 13: 38 vertices,
+#: where the simple backbone the caller falls back to has 970).
+MAX_VALIDITY_ROUNDS = 200
 
 
 def _best_path(feasible: list[np.ndarray], k: int, closed: bool) -> IntArray:
