@@ -228,10 +228,11 @@ def reconstruct_contour(pyramid: Pyramid, ordered: FloatArray, points: FloatArra
     vertices, vparams = _near_curve(vertices, vparams, contour)
     vertices, vparams = _repair(contour, vertices, vparams)
     n_wavelet = len(vertices)
-    if simple_backbone and not _simple(vertices, closed) and _simple(ordered, closed):
+    simple = simple_backbone and _simple(vertices, closed)
+    if simple_backbone and not simple and _simple(ordered, closed):
         again, again_u = _repair(contour, ordered, fine_u)
         if _simple(again, closed):
-            vertices, vparams = again, again_u
+            vertices, vparams, simple = again, again_u, True
     # the ordered points join the candidates, so the choice is never worse than the best
     # subset of ordered points; the wavelet coefficients add smoothed candidates to it
     # (an ordered point at a vertex's parameter is still new unless it is that very vertex)
@@ -249,7 +250,7 @@ def reconstruct_contour(pyramid: Pyramid, ordered: FloatArray, points: FloatArra
                                        backbone=backbone, obstacles=obstacles)
     # the cone test is exact up to rounding; the repaired polygon stays the fallback (and, for
     # a simple backbone, where the selection's rounds ended on a crossing)
-    crossing = simple_backbone and not _simple(chosen, closed) and _simple(vertices, closed)
+    crossing = simple and not _simple(chosen, closed)
     if own_edge_distance(chosen, chosen_u, points, params, closed).max(initial=0.0) <= (
             tolerance * (1 + SLACK)) and not crossing:
         vertices, vparams = chosen, chosen_u
