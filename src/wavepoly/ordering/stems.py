@@ -25,6 +25,8 @@ from scipy.spatial import cKDTree
 
 from ..geometry import polyline_distance, polyline_length
 from ..types import FloatArray, OrderedContour
+from .faces import outline_of_faces
+from .passes import out_and_back
 from .piece_graph import Edge, bridges, components, degrees, outer_edges, piece_graph
 from .slits import STEM_DENSITY, stems_are_slits
 from .untangle import crossing_edges, untangle
@@ -57,13 +59,6 @@ BUBBLE_LENGTH = 12.0
 #: A chord walked as a stem ends where it comes this many radii from the cycle: a slit's tip
 #: whose end met the wall beside it is its walls' half-width or so from that wall.
 CHORD_TIP = 1.0
-#: Half the width between a stem's two walls, in radii: at least this, so that the polygon has
-#: an inside where the walls converge...
-MIN_HALF_WIDTH = 0.05
-#: ... and at most this: the walls were merged because they lie within a radius.
-MAX_HALF_WIDTH = 0.5
-
-
 def close_outlines(contours: list[OrderedContour], points: FloatArray, radius: float
                    ) -> list[OrderedContour]:
     """Join the open pieces that form one cycle with stems into a closed outline.
@@ -150,6 +145,18 @@ def _outline(comp: list[int], edges: list[Edge], members: FloatArray, radius: fl
     cycle = [k for k in comp if k not in stems]
     if not cycle:
         return _thin_ring(comp, edges, members, radius, density)
+    ring = _cycle_with_stems(cycle, stems, edges, members, radius)
+    if ring is not None and shapely.Polygon(ring).is_valid:
+        return ring
+    region = outline_of_faces([edges[k].xy for k in comp], members, radius)
+    return ring if region is None else region
+
+
+def _cycle_with_stems(cycle: list[int], stems: set[int], edges: list[Edge],
+                      members: FloatArray, radius: float) -> FloatArray | None:
+    """The cycle walked with each stem out and back (`_ring_if_slits`), and with an edge
+    across it walked as a slit where the ring leaves that edge's points out
+    (`_chord_as_stem`); None where the cycle is more than one ring, or a stem branches."""
     degree = degrees(cycle, edges)
     inner: list[int] = []
     if any(d != 2 for d in degree.values()):
@@ -233,7 +240,7 @@ def _thin_ring(comp: list[int], edges: list[Edge], members: FloatArray, radius: 
         return None
     tree = cKDTree(members)
     for walked in (path, _smoothed(path)):  # again along its middle, where it zigzags
-        ring = _out_and_back(walked, -1.0, tree, radius)
+        ring = out_and_back(walked, -1.0, tree, radius)
         if shapely.Polygon(ring).is_valid:
             return ring
     return None
@@ -412,30 +419,5 @@ def _excursions(back: FloatArray, ahead: FloatArray, stems: list[FloatArray],
     side = -1.0 if ccw[0] else 1.0  # -1: the right wall (as seen walking out)
     passes = []
     for k in order:
-        passes.append(_out_and_back(stems[k], side, members, radius))
+        passes.append(out_and_back(stems[k], side, members, radius))
     return np.vstack(passes)
-
-
-def _out_and_back(stem: FloatArray, side: float, members: cKDTree, radius: float
-                  ) -> FloatArray:
-    """A stem from its root to its tip and back, the passes ``side`` x its half-width to
-    either side (the tip once)."""
-    tangent = np.gradient(stem, axis=0)
-    tangent /= np.maximum(np.linalg.norm(tangent, axis=1, keepdims=True), 1e-300)
-    normal = np.column_stack([-tangent[:, 1], tangent[:, 0]])  # left
-    half = _half_widths(stem, normal, members, radius)
-    out = stem[:-1] + side * half[:-1, None] * normal[:-1]
-    back = (stem[:-1] - side * half[:-1, None] * normal[:-1])[::-1]
-    return np.vstack([out, stem[-1:], back])
-
-
-def _half_widths(stem: FloatArray, normal: FloatArray, members: cKDTree, radius: float
-                 ) -> FloatArray:
-    """Half the distance between a stem's walls at each of its points: the median offset of
-    the points within a radius across it, within [`MIN_HALF_WIDTH`, `MAX_HALF_WIDTH`] radii."""
-    half = np.full(len(stem), MIN_HALF_WIDTH * radius)
-    for i, near in enumerate(members.query_ball_point(stem, radius)):
-        if near:
-            off = np.abs((members.data[near] - stem[i]) @ normal[i])
-            half[i] = np.median(off)
-    return np.clip(half, MIN_HALF_WIDTH * radius, MAX_HALF_WIDTH * radius)

@@ -1,0 +1,204 @@
+"""Outlines as regions: a cycle of open pieces with stems that no walk along it can draw.
+
+`wavepoly.ordering.stems` walks a cycle of open pieces, and each stem hanging off it out and
+back. Where that walk fails (a stem that branches, stems on both sides of the cycle at one
+node, a slit's chain that runs across the region from wall to wall, passes that cross each
+other by a root), the same outline is a region: the faces that the pieces bound, with each
+limb's two walls added to it and each slit's cut out of it. Set operations (GEOS) keep the
+result a simple polygon wherever one exists. The stems and chords must hold two walls' points
+(`wavepoly.ordering.slits.stems_are_slits`), so that a line drawing's strokes stay strokes.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import shapely
+from scipy.spatial import cKDTree
+from shapely.ops import substring
+
+from ..geometry import polyline_distance
+from ..types import FloatArray
+from .passes import out_and_back
+from .slits import stems_are_slits
+
+#: A chain inside the region shorter than this many radii is where two pieces crossed by a
+#: wall (the march's loop of a node or two), not a slit: left out, its points lie by the outline.
+MIN_CHORD = 2.0
+#: A chain across the region is walked as a slit from one end up to where it comes this many
+#: radii from the region's outline (`stems.CHORD_TIP`: a slit's tip that met the far wall).
+CHORD_TIP = 1.0
+#: At most this many chains across the region are tried as slits (each from either end).
+MAX_CHORDS = 2
+#: Every point of the pieces must lie within this many radii of the outline
+#: (`stems.INNER_REACH`).
+COVER_REACH = 2.0
+#: A stem's walls start this many radii behind its root, so that a slit cuts through the
+#: region's outline and a limb grows out of it (its root lies on the outline).
+ROOT_OVERLAP = 0.5
+#: Pieces of a region smaller than this many square radii, cut off by a stem's walls where its
+#: path zigzags, are slivers: dropped, when the outline still covers their points.
+SLIVER_AREA = 1.0
+#: Consecutive vertices of the outline closer than this many radii are one (set operations
+#: leave slivers of segments where walls meet).
+MERGE_VERTICES = 0.01
+
+
+def outline_of_faces(lines: list[FloatArray], members: FloatArray, radius: float
+                     ) -> FloatArray | None:
+    """The closed outline of a component of open pieces, read as a region, or None.
+
+    Parameters
+    ----------
+    lines : the component's pieces (polylines; they meet at their ends or cross).
+    members : the points of the pieces.
+    radius : the neighbourhood radius of the ordering.
+
+    Returns
+    -------
+    The outline's vertices (an (M, 2) ring, not repeating its first vertex), or None where the
+    pieces bound no face, bound faces joined only by a bar or a point, the stems are strokes
+    (`stems_are_slits`), or the outline misses a point by more than `COVER_REACH` radii.
+    """
+    parts = list(shapely.get_parts(shapely.node(shapely.MultiLineString(
+        [xy for xy in lines if len(xy) >= 2]))))
+    faces, cuts, dangles, _ = shapely.polygonize_full(parts)
+    if faces.is_empty or not cuts.is_empty:
+        return None
+    tree = cKDTree(members)
+    for region in _regions(faces):
+        stems, chords = _stems_and_chords(parts, faces, dangles, region, radius)
+        if len(chords) > MAX_CHORDS:
+            continue
+        for cut in _chords_as_slits(chords, region, radius):
+            ring = _region_outline(region, stems + cut, members, tree, radius)
+            if ring is not None:
+                return ring
+    return None
+
+
+def _regions(faces: shapely.Geometry) -> list[shapely.Polygon]:
+    """The regions the outline may bound: all the faces together, else the largest alone (the
+    others thin faces between a slit's two walls, which the march followed apart)."""
+    polygons = sorted(shapely.get_parts(faces), key=lambda f: -f.area)
+    union = shapely.union_all(polygons)
+    out = [union] if union.geom_type == "Polygon" and not len(union.interiors) else []
+    if len(polygons) > 1:
+        out.append(shapely.Polygon(polygons[0].exterior))
+    return out
+
+
+def _stems_and_chords(parts: list[shapely.LineString], faces: shapely.Geometry,
+                      dangles: shapely.Geometry, region: shapely.Polygon, radius: float
+                      ) -> tuple[list[FloatArray], list[FloatArray]]:
+    """The dangling chains (stems, each from the end nearer the region's outline) and the
+    chains inside the region that bound two faces (chords at least `MIN_CHORD` radii long)."""
+    tol = 1e-9 * radius
+    bounds = shapely.union_all([f.exterior for f in shapely.get_parts(faces)])
+    inner = [p for p in parts if not p.is_empty
+             and shapely.distance(p.interpolate(0.5, normalized=True), region.exterior) > tol
+             and shapely.distance(p.interpolate(0.5, normalized=True), bounds) <= tol]
+    stems = [_from_outline(np.asarray(c.coords), region) for c in _merged(dangles)]
+    chords = [np.asarray(c.coords) for c in _merged(shapely.MultiLineString(inner))
+              if c.length >= MIN_CHORD * radius]
+    return stems, chords
+
+
+def _merged(lines: shapely.Geometry) -> list[shapely.LineString]:
+    """The lines merged into chains through the points where only two meet."""
+    if lines.is_empty:
+        return []
+    return list(shapely.get_parts(shapely.line_merge(shapely.union_all(
+        list(shapely.get_parts(lines))))))
+
+
+def _from_outline(xy: FloatArray, region: shapely.Polygon) -> FloatArray:
+    """A polyline from its end nearer the region's outline."""
+    near = shapely.distance(shapely.points(xy[[0, -1]]), region.exterior)
+    return xy if near[0] <= near[1] else xy[::-1]
+
+
+def _chords_as_slits(chords: list[FloatArray], region: shapely.Polygon, radius: float
+                     ) -> list[list[FloatArray]]:
+    """Each way of walking every chord as a slit from one of its ends, up to where it comes
+    within `CHORD_TIP` radii of the outline at the other."""
+    ways: list[list[FloatArray]] = [[]]
+    for xy in chords:
+        trimmed = [_trimmed(path, region, radius) for path in (xy, xy[::-1])]
+        ways = [way + [t] for way in ways for t in trimmed if t is not None]
+    return ways
+
+
+def _trimmed(path: FloatArray, region: shapely.Polygon, radius: float) -> FloatArray | None:
+    """A chord from its start up to its last point farther than `CHORD_TIP` radii from the
+    outline, or None when too little of it is."""
+    near = shapely.distance(shapely.points(path), region.exterior) <= CHORD_TIP * radius
+    far = np.flatnonzero(~near)
+    return path[:far[-1] + 1] if len(far) and far[-1] >= 2 else None
+
+
+def _region_outline(region: shapely.Polygon, stems: list[FloatArray], members: FloatArray,
+                    tree: cKDTree, radius: float) -> FloatArray | None:
+    """The region with each limb's walls added and each slit's cut out: its outline, when
+    that is one simple polygon within `COVER_REACH` radii of every member and the stems are
+    two walls each."""
+    if stems and not stems_are_slits(*_walk_and_paths(region, stems, radius), members,
+                                     radius):
+        return None
+    out = region
+    for stem in stems:
+        walls = _walls(stem, tree, radius)
+        inside = region.contains(shapely.points(stem[1:])).mean() > 0.5
+        out = out.difference(walls) if inside else out.union(walls)
+    out = _without_slivers(out, radius)
+    if out is None or len(out.interiors) or not out.is_valid:
+        return None
+    ring = shapely.remove_repeated_points(out.exterior, MERGE_VERTICES * radius)
+    xy = np.asarray(ring.coords)[:-1]
+    if len(xy) < 3 or not shapely.Polygon(xy).is_valid:
+        return None
+    if polyline_distance(members, xy, True).max() > COVER_REACH * radius:
+        return None
+    return xy
+
+
+def _without_slivers(region: shapely.Geometry, radius: float) -> shapely.Polygon | None:
+    """The largest polygon of a region, where the others are slivers under `SLIVER_AREA`
+    square radii (left between a zigzag stem's passes), else None."""
+    parts = sorted(shapely.get_parts(region), key=lambda g: -g.area)
+    if not parts or parts[0].geom_type != "Polygon":
+        return None
+    if any(g.area > SLIVER_AREA * radius**2 for g in parts[1:]):
+        return None
+    return parts[0]
+
+
+def _walls(stem: FloatArray, tree: cKDTree, radius: float) -> shapely.Geometry:
+    """The polygon between a stem's two walls (`out_and_back`), started `ROOT_OVERLAP` radii
+    behind its root."""
+    step = stem[0] - stem[1]
+    back = stem[0] + ROOT_OVERLAP * radius * step / max(np.linalg.norm(step), 1e-300)
+    walls = shapely.Polygon(out_and_back(np.vstack([back, stem]), 1.0, tree, radius))
+    return walls if walls.is_valid else shapely.make_valid(walls)
+
+
+def _walk_and_paths(region: shapely.Polygon, stems: list[FloatArray], radius: float
+                    ) -> tuple[dict[int, list[FloatArray]], list[tuple[int, FloatArray]]]:
+    """The stems by root and the outline's walk between the roots, as
+    `stems_are_slits` reads them (a stem whose root is off the outline hangs off another)."""
+    outline = region.exterior
+    at = np.array([outline.project(shapely.Point(s[0])) for s in stems])
+    on = shapely.distance(shapely.points([s[0] for s in stems]), outline) <= 1e-6 * radius
+    stops = np.unique(at[on]) if on.any() else np.zeros(1)
+    paths: dict[int, list[FloatArray]] = {}
+    for k, stem in enumerate(stems):
+        node = int(np.argmin(np.abs(stops - at[k]))) if on[k] else -1 - k
+        paths.setdefault(node, []).append(stem)
+    length = outline.length
+    walk = []
+    for i, s in enumerate(stops):
+        stop = stops[i + 1] if i + 1 < len(stops) else stops[0] + length
+        xy = np.asarray(substring(outline, s, min(stop, length)).coords)
+        if stop > length:
+            xy = np.vstack([xy, np.asarray(substring(outline, 0.0, stop - length).coords)[1:]])
+        walk.append((i, xy))
+    return paths, walk

@@ -1,0 +1,44 @@
+"""A stem walked out along one wall and back along the other: two walls the march merged.
+
+Where two walls run closer than the radius, the march follows them as one chain (a stem: a
+slit, a thin limb or hole). Drawn as a polygon, the chain is walked out and back, the two
+passes apart by the walls' measured half-width, so that the polygon has an inside.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from ..types import FloatArray
+
+#: Half the width between a stem's two walls, in radii: at least this, so that the polygon has
+#: an inside where the walls converge...
+MIN_HALF_WIDTH = 0.05
+#: ... and at most this: the walls were merged because they lie within a radius.
+MAX_HALF_WIDTH = 0.5
+
+
+def out_and_back(stem: FloatArray, side: float, members: cKDTree, radius: float
+                 ) -> FloatArray:
+    """A stem from its root to its tip and back, the passes ``side`` x its half-width to
+    either side (the tip once)."""
+    tangent = np.gradient(stem, axis=0)
+    tangent /= np.maximum(np.linalg.norm(tangent, axis=1, keepdims=True), 1e-300)
+    normal = np.column_stack([-tangent[:, 1], tangent[:, 0]])  # left
+    half = half_widths(stem, normal, members, radius)
+    out = stem[:-1] + side * half[:-1, None] * normal[:-1]
+    back = (stem[:-1] - side * half[:-1, None] * normal[:-1])[::-1]
+    return np.vstack([out, stem[-1:], back])
+
+
+def half_widths(stem: FloatArray, normal: FloatArray, members: cKDTree, radius: float
+                ) -> FloatArray:
+    """Half the distance between a stem's walls at each of its points: the median offset of
+    the points within a radius across it, within [`MIN_HALF_WIDTH`, `MAX_HALF_WIDTH`] radii."""
+    half = np.full(len(stem), MIN_HALF_WIDTH * radius)
+    for i, near in enumerate(members.query_ball_point(stem, radius)):
+        if near:
+            off = np.abs((members.data[near] - stem[i]) @ normal[i])
+            half[i] = np.median(off)
+    return np.clip(half, MIN_HALF_WIDTH * radius, MAX_HALF_WIDTH * radius)

@@ -1,0 +1,105 @@
+"""Outlines read as regions (`wavepoly.ordering.faces`), where no walk of the cycle can draw
+the stems: a branching slit, a slit's walls followed apart into a face of their own."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import shapely
+
+import wavepoly
+from wavepoly.ordering.faces import outline_of_faces
+from wavepoly.ordering.stems import close_outlines
+from wavepoly.types import OrderedContour
+
+from .conftest import distance_to_output
+from .truth import independent_problems
+
+RADIUS = 0.05
+FORK = np.array([0.5, 0.0])
+#: The slit runs in from (1, 0) to the fork, then its two branches to these tips.
+TIPS = np.array([[0.3, 0.15], [0.3, -0.15]])
+
+
+def _walls(a: np.ndarray, b: np.ndarray, two: bool) -> np.ndarray:
+    """Points along each wall of a slit from ``a`` to ``b`` (0.4 radii apart), or along its
+    middle alone (one stroke), as many per length as on the ring."""
+    length = np.linalg.norm(b - a)
+    n = int(round(600 / (2 * np.pi) * length))
+    d = (b - a) / length
+    normal = np.array([-d[1], d[0]])
+    line = a + np.linspace(0.0, 1.0, n)[:, None] * (b - a)
+    if not two:
+        return line
+    return np.vstack([line + s * 0.2 * RADIUS * normal for s in (-1, 1)])
+
+
+def _ring_with_forked_slit(two_walls: bool):
+    """A unit ring in two pieces meeting at (1, 0) and (-1, 0), and a Y-shaped slit cut in
+    from (1, 0) whose chains meet at the fork: its points hold two walls each or one."""
+    t = np.linspace(0, 2 * np.pi, 600, endpoint=False)
+    ring = np.column_stack([np.cos(t), np.sin(t)])
+    ends = [np.array([1.0, 0.0]), *TIPS]
+    starts = [FORK, FORK, FORK]
+    walls = [_walls(a, b, two_walls) for a, b in zip(starts, ends)]
+    pts = np.vstack([ring, *walls])
+    first = np.cumsum([600] + [len(w) for w in walls])
+    pieces = [OrderedContour(ring[:301:5], False, np.arange(300)),
+              OrderedContour(np.vstack([ring[300::5], ring[:1]]), False, np.arange(300, 600))]
+    for k, (a, b) in enumerate(zip(starts, ends)):
+        chain = a + np.linspace(0.0, 1.0, 12)[:, None] * (b - a)
+        pieces.append(OrderedContour(chain, False, np.arange(first[k], first[k + 1])))
+    return pts, pieces
+
+
+def test_a_forked_slit_is_cut_out_of_the_region_it_hangs_in():
+    # the walk draws stems that end at a dead end; a stem that forks it left open
+    pts, pieces = _ring_with_forked_slit(two_walls=True)
+    out = close_outlines(pieces, pts, RADIUS)
+    assert [c.closed for c in out] == [True]
+    polygon = shapely.Polygon(out[0].points)
+    assert polygon.is_valid
+    assert np.array_equal(np.sort(out[0].members), np.arange(len(pts)))
+    # the outline runs down the slit and up each branch to its tip
+    for tip in TIPS:
+        assert shapely.distance(polygon.exterior, shapely.Point(tip)) < RADIUS
+    assert not polygon.contains(shapely.Point(0.75, 0.0))
+    assert not polygon.contains(shapely.Point((FORK + TIPS[0]) / 2))
+    ring = shapely.LinearRing(out[0].points)
+    assert shapely.distance(shapely.points(pts), ring).max() < RADIUS
+
+
+def test_a_forked_stroke_stays_a_stroke():
+    # a line drawing's strokes meeting a ring hold one line's points: no outline
+    pts, pieces = _ring_with_forked_slit(two_walls=False)
+    out = close_outlines(pieces, pts, RADIUS)
+    assert not any(c.closed for c in out)
+    lines = [c.points for c in pieces]
+    assert outline_of_faces(lines, pts, RADIUS) is None
+
+
+def test_faces_joined_by_a_bar_or_no_face_give_no_outline():
+    square = np.array([[0, 0], [1, 0], [1, 1], [0, 1], [0, 0]], dtype=float)
+    bar = np.array([[1.0, 0.5], [2.0, 0.5]])
+    pts = np.vstack([square, square + [2, 0], bar])
+    assert outline_of_faces([square, square + [2, 0], bar], pts, RADIUS) is None
+    assert outline_of_faces([bar], bar, RADIUS) is None
+
+
+@pytest.mark.parametrize(("row", "seed"), [(4, 21), (1, 6)])
+def test_silhouettes_whose_slits_no_walk_could_draw_come_out_closed(row, seed):
+    """Silhouette 21 traced from a 200-pixel bitmap, with noise: a slit's chain forked where
+    its walls part by the mouth (5 open pieces before). Silhouette 6, sampled exactly: two
+    wedge slits side by side, whose walls the march followed apart into a thin face of its
+    own, which the largest face leaves out (3 open pieces before)."""
+    from benchmarks.bench_validity import SILHOUETTE_SAMPLINGS
+    from benchmarks.silhouettes import bitmap, sample, silhouette
+
+    pixels, n, eps, noise = SILHOUETTE_SAMPLINGS[row]
+    rings = silhouette(seed) if pixels is None else bitmap(silhouette(seed), pixels)
+    pts = sample(rings, n, noise * eps, 1000 + seed)
+    result = wavepoly.fit(pts, eps)
+    assert [c.closed for c in result.contours] == [True]
+    assert independent_problems(result) == []
+    assert len(result.outliers) == 0
+    assert distance_to_output(pts, result).max() <= eps * (1 + 1e-9)
