@@ -103,3 +103,21 @@ def test_silhouettes_whose_slits_no_walk_could_draw_come_out_closed(row, seed):
     assert independent_problems(result) == []
     assert len(result.outliers) == 0
     assert distance_to_output(pts, result).max() <= eps * (1 + 1e-9)
+
+
+def test_slits_rooted_a_hair_apart_share_one_root():
+    # two slits whose roots lie 1e-13 apart on the outline: the walk between them had no
+    # length, and shapely refused a line of one point (a turbine blade's adaptive layer)
+    from wavepoly.ordering.faces import _walk_and_paths
+
+    square = shapely.Polygon([(0, 0), (1, 0), (1, 1), (0, 1)]).segmentize(RADIUS / 2)
+    slits = [np.linspace([1.0, 0.5], [0.6, 0.45], 8),
+             np.linspace([1.0, 0.5 + 1e-13], [0.6, 0.55], 8)]
+    paths, walk = _walk_and_paths(square, slits, RADIUS)
+    assert [len(p) for p in paths.values()] == [2]
+    assert len(walk) == 1 and shapely.LineString(walk[0][1]).length == pytest.approx(4.0)
+    ring = np.asarray(square.exterior.coords)
+    pts = np.vstack([ring, *[_walls(s[0], s[-1], True) for s in slits]])
+    outline = outline_of_faces([ring, *slits], pts, RADIUS)
+    assert outline is not None and shapely.Polygon(outline).is_valid
+    assert shapely.Polygon(outline).area < 1.0

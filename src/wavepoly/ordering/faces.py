@@ -58,7 +58,16 @@ def outline_of_faces(lines: list[FloatArray], members: FloatArray, radius: float
     The outline's vertices (an (M, 2) ring, not repeating its first vertex), or None where the
     pieces bound no face, bound faces joined only by a bar or a point, the stems are strokes
     (`stems_are_slits`), or the outline misses a point by more than `COVER_REACH` radii.
+    GEOS failing on a degenerate arrangement is one more None: the pieces stay as they are.
     """
+    try:
+        return _outline_of_faces(lines, members, radius)
+    except shapely.errors.GEOSException:
+        return None
+
+
+def _outline_of_faces(lines: list[FloatArray], members: FloatArray, radius: float
+                      ) -> FloatArray | None:
     parts = list(shapely.get_parts(shapely.node(shapely.MultiLineString(
         [xy for xy in lines if len(xy) >= 2]))))
     faces, cuts, dangles, _ = shapely.polygonize_full(parts)
@@ -188,12 +197,16 @@ def _walk_and_paths(region: shapely.Polygon, stems: list[FloatArray], radius: fl
     outline = region.exterior
     at = np.array([outline.project(shapely.Point(s[0])) for s in stems])
     on = shapely.distance(shapely.points([s[0] for s in stems]), outline) <= 1e-6 * radius
-    stops = np.unique(at[on]) if on.any() else np.zeros(1)
+    length = outline.length
+    apart = MERGE_VERTICES * radius
+    stops = _distinct(at[on], apart) if on.any() else np.zeros(1)
+    if len(stops) > 1 and stops[-1] - stops[0] > length - apart:
+        stops = stops[:-1]  # the last root is the first one, across the ring's start
     paths: dict[int, list[FloatArray]] = {}
     for k, stem in enumerate(stems):
-        node = int(np.argmin(np.abs(stops - at[k]))) if on[k] else -1 - k
+        gap = np.abs(stops - at[k])
+        node = int(np.argmin(np.minimum(gap, length - gap))) if on[k] else -1 - k
         paths.setdefault(node, []).append(stem)
-    length = outline.length
     walk = []
     for i, s in enumerate(stops):
         stop = stops[i + 1] if i + 1 < len(stops) else stops[0] + length
@@ -202,3 +215,13 @@ def _walk_and_paths(region: shapely.Polygon, stems: list[FloatArray], radius: fl
             xy = np.vstack([xy, np.asarray(substring(outline, 0.0, stop - length).coords)[1:]])
         walk.append((i, xy))
     return paths, walk
+
+
+def _distinct(at: FloatArray, apart: float) -> FloatArray:
+    """The sorted positions, each at least ``apart`` past the one before (the others merged
+    into it), so that the outline between two has length."""
+    out: list[float] = []
+    for a in np.sort(at):
+        if not out or a - out[-1] >= apart:
+            out.append(float(a))
+    return np.array(out)

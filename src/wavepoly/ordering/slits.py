@@ -153,5 +153,6 @@ def _even(seg: IntArray, seg_length: FloatArray, radius: float) -> bool:
     window = np.minimum(window, n_windows - 1)  # the last, short window joins the one before
     count = np.bincount(window[seg], minlength=n_windows)
     width = np.bincount(window, weights=seg_length, minlength=n_windows)
-    low, high = np.percentile(count / width, [10, 90])
+    filled = width > 0  # a window that a segment longer than it spans holds none
+    low, high = np.percentile(count[filled] / width[filled], [10, 90])
     return bool(high <= EVEN_SAMPLING * low)

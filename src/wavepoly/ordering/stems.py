@@ -12,9 +12,10 @@ are drawn apart by their measured half-width, so the polygon stays simple.
 A stem is told from a stroke of a line drawing (Deery's antlers meet its head at T junctions
 too) by its points: two walls merged into one chain hold twice as many points per length as a
 wall of the cycle, one stroke as many (`wavepoly.ordering.slits`).
-Only that structure is closed: one cycle, each stem a path from it to a dead end, the stems at
-a node on one side of the cycle; anything else (a line drawing's network, two rings joined by
-a bar) is left as it is.
+The walk draws one cycle, each stem a path from it to a dead end, the stems at a node on one
+side of the cycle. Where it cannot (a stem that forks, a slit's walls followed apart into a face
+of their own), the outline is read as the region the pieces bound (`wavepoly.ordering.faces`);
+anything else (a line drawing's network, two rings joined by a bar) is left as it is.
 """
 
 from __future__ import annotations
