@@ -361,7 +361,8 @@ def test_a_lone_piece_that_zigzags_between_two_walls_is_walked_along_its_middle(
 def test_a_stem_running_on_from_where_the_ring_turns_back_needs_fewer_points():
     # a slit 2 radii wide at its mouth, where the ring ran in along each wall and turned
     # back; on from there, the stem holds 1.3 x the ring's points per length (a bitmap's
-    # trace holds one wall in places). The same stem off a smooth ring is a stroke.
+    # trace holds one wall in places). A stroke as dense off a smooth ring, its points on its
+    # chain, is a stroke (two walls off a smooth ring: `..._spread_as_two_walls_...` below).
     radius = 0.05
     t = np.linspace(0, 2 * np.pi, 600, endpoint=False)
     circle = np.column_stack([np.cos(t), np.sin(t)])  # 95 points per unit length
@@ -383,9 +384,46 @@ def test_a_stem_running_on_from_where_the_ring_turns_back_needs_fewer_points():
     _one_simple_ring(out)
     assert shapely.distance(shapely.LinearRing(out[0].points), shapely.Point(0.5, 0.0)) < radius
     ring, smooth = _ring_with_slit(radius)
-    x = np.linspace(0.5, 1.0, 31)
-    walls = np.vstack([np.column_stack([x, np.full(31, s * 0.2 * radius)]) for s in (1, -1)])
-    pts = np.vstack([ring[:600], walls])
+    line = np.column_stack([np.linspace(0.5, 1.0, 62), np.zeros(62)])
+    pts = np.vstack([ring[:600], line])
     stroke = OrderedContour(np.linspace([1.0, 0.0], [0.5, 0.0], 21), False,
                             np.arange(600, len(pts)))
     assert not any(c.closed for c in close_outlines([*smooth, stroke], pts, radius))
+
+
+def test_a_stem_whose_points_spread_as_two_walls_needs_fewer_points():
+    # a slit whose walls lie 0.3 radii to either side of its chain, holding 1.3 x the ring's
+    # points per length (a noisy bitmap's slit: each wall sampled a little thinner), closes the
+    # outline; a stroke as dense whose points lie on its chain stays a stroke
+    radius = 0.05
+    ring, pieces = _ring_with_slit(radius)
+    ring = ring[:600]  # 95 points per unit length
+    x = np.linspace(0.5, 1.0, 31)
+    walls = np.vstack([np.column_stack([x, np.full(31, s * 0.3 * radius)]) for s in (-1, 1)])
+    stroke = np.column_stack([np.linspace(0.5, 1.0, 62), np.zeros(62)])
+    for points, closes in ((walls, True), (stroke, False)):
+        pts = np.vstack([ring, points])
+        stem = OrderedContour(np.linspace([1.0, 0.0], [0.5, 0.0], 21), False,
+                              np.arange(600, len(pts)))
+        out = close_outlines([*pieces, stem], pts, radius)
+        assert [c.closed for c in out] == ([True] if closes else [False, False, False])
+        if closes:
+            polygon = _one_simple_ring(out)
+            assert shapely.distance(polygon.exterior, shapely.Point(0.5, 0.0)) < radius
+
+
+@pytest.mark.parametrize("seed", [40, 55])
+def test_bitmap_slits_whose_walls_spread_about_their_stem_close_the_outline(seed):
+    """Silhouettes traced from a 200-pixel bitmap with noise ε / 4: the slits' stems hold 1.36
+    and 1.23 x the ring's points per length (under `STEM_DENSITY`) and spread 1.30 and 1.73 x
+    as far; each outline was closed without its slit, which stayed an open stroke."""
+    from benchmarks.silhouettes import bitmap, sample, silhouette
+
+    rings = bitmap(silhouette(seed), 200)
+    eps = 0.01  # the silhouette is 1 unit across its diagonal
+    pts = sample(rings, 2000, eps / 4, 1000 + seed)
+    result = wavepoly.fit(pts, eps)
+    assert [c.closed for c in result.contours] == [True] * len(rings)
+    assert independent_problems(result) == []
+    assert len(result.outliers) == 0
+    assert distance_to_output(pts, result).max() <= eps * (1 + 1e-9)

@@ -24,6 +24,15 @@ STEM_DENSITY = 1.5
 #: the cycle's points per length: where a slit narrows below a pixel, a bitmap's trace holds
 #: one wall in places, and such stems held 1.3 x (a line drawing's strokes 1.0).
 SLIT_DENSITY = 1.2
+#: Stems whose points lie this many times as far from them as the ring's from the ring (the
+#: median), two walls to either side of their chain, need hold only `SLIT_DENSITY` x the
+#: ring's points too: such slits held 1.23-1.36 x the points and spread 1.30-1.73 x (bitmap
+#: silhouettes with noise), a line drawing's strokes 1.18-1.33 x and 0.78-1.10 x (Goldi,
+#: Fishi, fish.txt; one of 1.39 x held 1.07 x the points).
+SLIT_SPREAD = 1.25
+#: A ring whose points lie on it (an exact sampling's ordered points) spreads at least this
+#: many radii, so that the ratio is finite.
+SPREAD_FLOOR = 1e-3
 #: The cycle's arms and the stem are followed this many radii from the root...
 HAIRPIN_REACH = 3.0
 #: ... the arms run within this many degrees of each other (a wedge slit's walls part at up
@@ -51,7 +60,8 @@ def stems_are_slits(paths: dict[int, list[FloatArray]], walk: list[tuple[int, Fl
     `STEM_DENSITY` x its points per length, measured over their denser half (`_denser_half`;
     a line drawing's strokes hold 1.0 together, 1.2 over their denser half when sampled at 3
     points per radius), or `SLIT_DENSITY` x where each runs on from a hairpin of the cycle
-    (`_at_hairpins`).
+    (`_at_hairpins`) or where their points spread `SLIT_SPREAD` x as far about them as the
+    ring's about it (`_spread_ratio`).
 
     Parameters
     ----------
@@ -60,21 +70,32 @@ def stems_are_slits(paths: dict[int, list[FloatArray]], walk: list[tuple[int, Fl
     members : the points of the cycle and its stems.
     radius : the neighbourhood radius of the ordering.
     """
-    least = SLIT_DENSITY if _at_hairpins(paths, walk, radius) else STEM_DENSITY
     lines = [xy for _, xy in walk] + [p for ps in paths.values() for p in ps]
     label = np.concatenate([np.full(len(xy) - 1, k) for k, xy in enumerate(lines)])
     a = np.vstack([xy[:-1] for xy in lines])
     b = np.vstack([xy[1:] for xy in lines])
     seg_length = np.linalg.norm(b - a, axis=1)
     seg, dist = nearest_of_segments(members, a, b)
-    seg = seg[dist <= radius]
+    near = dist <= radius
+    seg, dist = seg[near], dist[near]
     count = np.bincount(seg, minlength=len(a))
     ring = label < len(walk)
+    wide = _spread_ratio(dist, ring[seg], radius) >= SLIT_SPREAD
+    least = SLIT_DENSITY if wide or _at_hairpins(paths, walk, radius) else STEM_DENSITY
     window = STEM_WINDOW * radius
     ring_density = count[ring].sum() / max(seg_length[ring].sum(), 1e-300)
     stem_density = _denser_half(count[~ring], seg_length[~ring], label[~ring], window)
     return (_even(seg[seg < ring.sum()], seg_length[ring], radius)
             and bool(stem_density >= least * ring_density))
+
+
+def _spread_ratio(dist: FloatArray, on_ring: np.ndarray, radius: float) -> float:
+    """The stems' points' median distance from them over the ring's points' from it (0 when
+    either holds none): two merged walls lie half their gap to either side of their stem."""
+    if on_ring.all() or not on_ring.any():
+        return 0.0
+    ring_spread = max(float(np.median(dist[on_ring])), SPREAD_FLOOR * radius)
+    return float(np.median(dist[~on_ring])) / ring_spread
 
 
 def _at_hairpins(paths: dict[int, list[FloatArray]], walk: list[tuple[int, FloatArray]],
