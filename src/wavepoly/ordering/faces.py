@@ -68,6 +68,7 @@ def outline_of_faces(lines: list[FloatArray], members: FloatArray, radius: float
 
 def _outline_of_faces(lines: list[FloatArray], members: FloatArray, radius: float
                       ) -> FloatArray | None:
+    """`outline_of_faces`, GEOS errors and all."""
     parts = list(shapely.get_parts(shapely.node(shapely.MultiLineString(
         [xy for xy in lines if len(xy) >= 2]))))
     faces, cuts, dangles, _ = shapely.polygonize_full(parts)
@@ -100,7 +101,10 @@ def _stems_and_chords(parts: list[shapely.LineString], faces: shapely.Geometry,
                       dangles: shapely.Geometry, region: shapely.Polygon, radius: float
                       ) -> tuple[list[FloatArray], list[FloatArray]]:
     """The dangling chains (stems, each from the end nearer the region's outline) and the
-    chains inside the region that bound two faces (chords at least `MIN_CHORD` radii long)."""
+    chains off its outline that bound two faces (chords at least `MIN_CHORD` radii long).
+    Where the region is the largest face alone, a chain of a thin face it leaves out counts
+    too, and is cut or added like a stem (silhouette 0:45 needs that; reading only chains
+    inside the region left it open)."""
     tol = 1e-9 * radius
     bounds = shapely.union_all([f.exterior for f in shapely.get_parts(faces)])
     inner = [p for p in parts if not p.is_empty
