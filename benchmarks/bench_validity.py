@@ -163,7 +163,7 @@ def run() -> str:
             "zigzagging across it.\n\n"
             + table(["case", "points", "ε", "closed/open", "right", "invalid", "crossing",
                      "teeth", "outliers", "vertices", "vs covering min-#", "seconds"], rows)
-            + "\n\n" + glyph_sweep() + "\n\n" + silhouette_sweep())
+            + "\n\n" + glyph_sweep() + "\n\n" + silhouette_sweep() + "\n\n" + blob_sweep())
 
 
 #: The glyph sweep: fonts bundled with matplotlib, and samplings (spacing, noise, ε) of glyphs
@@ -259,3 +259,56 @@ def silhouette_sweep() -> str:
             "that a slit cut, may merge into its neighbour), valid, no outliers; *invalid*: "
             "results that fail the shapely check.\n\n"
             + table(["outline", "points", "ε", "noise", "right", "invalid", "seconds"], rows))
+
+
+#: The blob sweep: seeds per row; blob sizes (a share of the image) and noises (in ε).
+BLOB_SEEDS = 20
+BLOB_ROWS = ((0.1, 0.0), (0.1, 0.25), (0.2, 0.0), (0.2, 0.25))
+#: Blob images are this many pixels square; ε is their diagonal over `DIAGONAL_PER_TOLERANCE`.
+BLOB_PIXELS = 256
+#: A blob sweep result is within the truth when the drawn and the true outlines are within
+#: this many ε of each other (Hausdorff both ways; noise ε / 4 puts points 0.75 ε out).
+BLOB_HAUSDORFF = 1.5
+
+
+def blob_sweep() -> str:
+    """Random blobs traced from a bitmap (`benchmarks.silhouettes.blobs`), sampled every ε / 3:
+    counted by rings as the silhouettes are, and by geometry (closed, valid, no outliers,
+    within `BLOB_HAUSDORFF` ε of the truth), which forgives blobs that touch at a pixel's
+    corner coming out as one outline."""
+    from .silhouettes import blobs, sample
+
+    truth = _truth()
+    eps = BLOB_PIXELS * np.sqrt(2) / DIAGONAL_PER_TOLERANCE
+    rows = []
+    for size, noise in BLOB_ROWS:
+        by_rings = by_shape = invalid = 0
+        t0 = time.perf_counter()
+        for seed in range(BLOB_SEEDS):
+            rings = blobs(seed, size, BLOB_PIXELS)
+            length = sum(shapely.LinearRing(r).length for r in rings)
+            pts = sample(rings, int(3 * length / eps), noise * eps, seed)
+            res = wavepoly.fit(pts, eps)
+            problems = truth.independent_problems(res)
+            invalid += bool(problems)
+            clean = (not problems and len(res.outliers) == 0
+                     and all(c.closed for c in res.contours))
+            by_rings += clean and (_rings_required(rings, eps) <= len(res.contours)
+                                   <= len(rings))
+            drawn = shapely.MultiLineString([np.vstack([c.vertices, c.vertices[:1]])
+                                             for c in res.contours])
+            true = shapely.MultiLineString([np.vstack([r, r[:1]]) for r in rings])
+            by_shape += clean and true.hausdorff_distance(drawn) <= BLOB_HAUSDORFF * eps
+        rows.append([f"{size:g}", f"{noise:g} ε", f"{by_rings}/{BLOB_SEEDS}",
+                     f"{by_shape}/{BLOB_SEEDS}", invalid, time.perf_counter() - t0])
+    return ("### Blob sweep\n\nRandom blobs in a 256-pixel image, as scikit-image's "
+            "`binary_blobs` makes them (`benchmarks/silhouettes.py`: 7 to 40 rounded outlines "
+            "per image, a few pixels to a third of the image across, touching one another now "
+            "and then at a pixel's corner), traced, ε = diagonal / "
+            f"{DIAGONAL_PER_TOLERANCE:g} (2.4 pixels), sampled every ε / 3 with Gaussian noise. "
+            "*by rings*: every contour closed, one per ring (as the silhouettes are counted), "
+            f"valid, no outliers; *by shape*: closed, valid, no outliers and within "
+            f"{BLOB_HAUSDORFF:g} ε of the true outlines both ways, which forgives two blobs "
+            "touching at a corner, 0.3 ε apart, drawn as one outline.\n\n"
+            + table(["blob size", "noise", "right by rings", "right by shape", "invalid",
+                     "seconds"], rows))

@@ -79,3 +79,24 @@ def bitmap(rings: list[np.ndarray], pixels: int) -> list[np.ndarray]:
 
 #: Traced rings smaller than this many pixels are specks of the rasterizing, not outlines.
 BITMAP_MIN_AREA = 20
+
+
+def blobs(seed: int, size_fraction: float, pixels: int = 256, volume: float = 0.3
+          ) -> list[np.ndarray]:
+    """The traced outlines of random blobs in a ``pixels`` square image, as scikit-image's
+    ``binary_blobs`` makes them (random seeds blurred by a Gaussian a quarter of the blob
+    size wide, the densest ``volume`` share of the image kept): rounded shapes a few pixels
+    to a third of the image across, touching one another now and then at a pixel's corner.
+    Unlike `silhouette`, nobody designed them; in pixel units, outermost first."""
+    import contourpy
+    from scipy.ndimage import gaussian_filter
+
+    rng = np.random.default_rng(seed)
+    n_seeds = max(int(1.0 / size_fraction) ** 2, 1)
+    mask = np.zeros((pixels, pixels))
+    mask[tuple((pixels * rng.random((2, n_seeds))).astype(int))] = 1.0
+    mask = gaussian_filter(mask, sigma=0.25 * pixels * size_fraction)
+    image = np.pad((mask >= np.percentile(mask, 100 * (1 - volume))).astype(float), 2)
+    lines = contourpy.contour_generator(z=image).lines(0.5)
+    traced = [line[:-1] for line in lines if abs(shapely.Polygon(line).area) >= BITMAP_MIN_AREA]
+    return sorted(traced, key=lambda r: -abs(shapely.Polygon(r).area))
