@@ -181,6 +181,19 @@ def _ring_with_slit(radius: float):
     return np.vstack([ring, walls]), pieces
 
 
+def _closes_down_the_slit(ring, pieces, stem_points, closes: bool, radius: float) -> None:
+    """The ring's two pieces and a stem from (1, 0) to (0.5, 0) holding ``stem_points``: one
+    simple outline running down to the slit's tip, or the three pieces left open."""
+    pts = np.vstack([ring, stem_points])
+    stem = OrderedContour(np.linspace([1.0, 0.0], [0.5, 0.0], 21), False,
+                          np.arange(len(ring), len(pts)))
+    out = close_outlines([*pieces, stem], pts, radius)
+    assert [c.closed for c in out] == ([True] if closes else [False, False, False])
+    if closes:
+        polygon = _one_simple_ring(out)
+        assert shapely.distance(polygon.exterior, shapely.Point(0.5, 0.0)) < radius
+
+
 def test_a_speck_at_a_junction_does_not_keep_the_outline_open():
     # the march left two nodes by a junction, and both of their ends met it
     radius = 0.05
@@ -312,14 +325,7 @@ def test_a_stem_that_holds_two_walls_over_less_than_half_of_it_closes_the_outlin
                      for s in (-1, 1)])
     stroke = np.column_stack([np.linspace(0.5, 1.0, 48), np.full(48, 0.2 * radius)])
     for walls, closes in ((np.vstack([one_wall, tip]), True), (stroke, False)):
-        pts = np.vstack([ring, walls])
-        stem = OrderedContour(np.linspace([1.0, 0.0], [0.5, 0.0], 21), False,
-                              np.arange(600, len(pts)))
-        out = close_outlines([*pieces, stem], pts, radius)
-        assert [c.closed for c in out] == ([True] if closes else [False, False, False])
-        if closes:
-            polygon = _one_simple_ring(out)
-            assert shapely.distance(polygon.exterior, shapely.Point(0.5, 0.0)) < radius
+        _closes_down_the_slit(ring, pieces, walls, closes, radius)
 
 
 def test_a_stem_that_zigzags_between_its_walls_is_walked_along_its_middle():
@@ -402,14 +408,7 @@ def test_a_stem_whose_points_spread_as_two_walls_needs_fewer_points():
     walls = np.vstack([np.column_stack([x, np.full(31, s * 0.3 * radius)]) for s in (-1, 1)])
     stroke = np.column_stack([np.linspace(0.5, 1.0, 62), np.zeros(62)])
     for points, closes in ((walls, True), (stroke, False)):
-        pts = np.vstack([ring, points])
-        stem = OrderedContour(np.linspace([1.0, 0.0], [0.5, 0.0], 21), False,
-                              np.arange(600, len(pts)))
-        out = close_outlines([*pieces, stem], pts, radius)
-        assert [c.closed for c in out] == ([True] if closes else [False, False, False])
-        if closes:
-            polygon = _one_simple_ring(out)
-            assert shapely.distance(polygon.exterior, shapely.Point(0.5, 0.0)) < radius
+        _closes_down_the_slit(ring, pieces, points, closes, radius)
 
 
 @pytest.mark.parametrize("seed", [40, 55])

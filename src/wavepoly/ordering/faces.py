@@ -24,13 +24,15 @@ from .slits import stems_are_slits
 #: A chain inside the region shorter than this many radii is where two pieces crossed by a
 #: wall (the march's loop of a node or two), not a slit: left out, its points lie by the outline.
 MIN_CHORD = 2.0
-#: A chain across the region is walked as a slit from one end up to where it comes this many
-#: radii from the region's outline (`stems.CHORD_TIP`: a slit's tip that met the far wall).
+#: A chord walked as a stem (here, and by `stems` where the walk met it) ends where it comes
+#: this many radii from the outline: a slit's tip whose end met the wall beside it is its
+#: walls' half-width or so from that wall.
 CHORD_TIP = 1.0
 #: At most this many chains across the region are tried as slits (each from either end).
 MAX_CHORDS = 2
-#: Every point of the pieces must lie within this many radii of the outline
-#: (`stems.INNER_REACH`).
+#: Every point of the pieces must lie within this many radii of the outline (here, and by
+#: `stems` for the points of an edge the outline leaves out: a chord where a slit tip's chains
+#: crossed runs beside its walls).
 COVER_REACH = 2.0
 #: A stem's walls start this many radii behind its root, so that a slit cuts through the
 #: region's outline and a limb grows out of it (its root lies on the outline).
@@ -107,9 +109,11 @@ def _stems_and_chords(parts: list[shapely.LineString], faces: shapely.Geometry,
     inside the region left it open)."""
     tol = 1e-9 * radius
     bounds = shapely.union_all([f.exterior for f in shapely.get_parts(faces)])
-    inner = [p for p in parts if not p.is_empty
-             and shapely.distance(p.interpolate(0.5, normalized=True), region.exterior) > tol
-             and shapely.distance(p.interpolate(0.5, normalized=True), bounds) <= tol]
+    solid = [p for p in parts if not p.is_empty]
+    middle = shapely.line_interpolate_point(solid, 0.5, normalized=True)
+    off_outline = shapely.distance(middle, region.exterior) > tol
+    on_a_face = shapely.distance(middle, bounds) <= tol
+    inner = [p for p, keep in zip(solid, off_outline & on_a_face) if keep]
     stems = [_from_outline(np.asarray(c.coords), region) for c in _merged(dangles)]
     chords = [np.asarray(c.coords) for c in _merged(shapely.MultiLineString(inner))
               if c.length >= MIN_CHORD * radius]

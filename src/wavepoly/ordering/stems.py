@@ -26,7 +26,7 @@ from scipy.spatial import cKDTree
 
 from ..geometry import polyline_distance, polyline_length
 from ..types import FloatArray, OrderedContour
-from .faces import outline_of_faces
+from .faces import CHORD_TIP, COVER_REACH, outline_of_faces
 from .passes import out_and_back
 from .piece_graph import Edge, bridges, components, degrees, outer_edges, piece_graph
 from .slits import STEM_DENSITY, stems_are_slits
@@ -41,9 +41,6 @@ SMOOTH_NODES = 2
 STEM_CROSSINGS = 4
 #: ... each within this many radii of a stem's root.
 ROOT_REACH = 2.0
-#: The points of an edge inside the region (left out of the outline) must lie within this many
-#: radii of the outline: a chord where a slit tip's chains crossed runs beside its walls.
-INNER_REACH = 2.0
 #: A loop edge from a junction back to it no longer than this many radii is a speck: the
 #: march left two or three nodes by the junction, and both their ends met it.
 SPECK_LENGTH = 1.0
@@ -57,9 +54,8 @@ BUBBLE_WIDTH = 1.5
 #: each, or a slit's walls followed apart (8-10 radii on the silhouettes). Longer ones are a
 #: chord beside a wall, whose region's boundary `outer_edges` finds.
 BUBBLE_LENGTH = 12.0
-#: A chord walked as a stem ends where it comes this many radii from the cycle: a slit's tip
-#: whose end met the wall beside it is its walls' half-width or so from that wall.
-CHORD_TIP = 1.0
+
+
 def close_outlines(contours: list[OrderedContour], points: FloatArray, radius: float
                    ) -> list[OrderedContour]:
     """Join the open pieces that form one cycle with stems into a closed outline.
@@ -290,13 +286,13 @@ def _middle(a: FloatArray, b: FloatArray) -> FloatArray:
 
 def _inner_covered(ring: FloatArray, inner: list[int], edges: list[Edge], members: FloatArray,
                    radius: float) -> bool:
-    """Whether the ring is a simple polygon within `INNER_REACH` radii of every member nearer
+    """Whether the ring is a simple polygon within `COVER_REACH` radii of every member nearer
     the inner edges it leaves out than the ring."""
     if not shapely.Polygon(ring).is_valid:
         return False
     to_ring = polyline_distance(members, ring, True)
     to_inner = np.min([polyline_distance(members, edges[k].xy, False) for k in inner], axis=0)
-    return bool(np.all(to_ring[to_inner < to_ring] <= INNER_REACH * radius))
+    return bool(np.all(to_ring[to_inner < to_ring] <= COVER_REACH * radius))
 
 
 def _cycle_walk(cycle: list[int], edges: list[Edge]) -> list[tuple[int, FloatArray]] | None:
