@@ -428,3 +428,89 @@ def test_a_slit_whose_wavelet_polygon_crosses_itself_comes_out_one_valid_outline
     assert [c.closed for c in result.contours] == [True]
     assert len(result.outliers) == 0
     assert len(result.contours[0].vertices) < 100
+
+
+def _figure_eight(turn_deg: float, gap: float = 0.1, spacing: float = 0.1) -> np.ndarray:
+    """A closed chain round two unit circles whose outlines come ``gap`` apart, crossing from
+    one to the other by the kiss: leaving each ``turn_deg`` degrees short of it."""
+    def arc(centre, start, stop):
+        n = int(np.radians(abs(stop - start)) / spacing)
+        t = np.radians(np.linspace(start, stop, n))
+        return np.column_stack([centre[0] + np.cos(t), centre[1] + np.sin(t)])
+
+    left, right = (-1 - gap / 2, 0.0), (1 + gap / 2, 0.0)
+    return np.vstack([arc(left, turn_deg, 360 - turn_deg),  # round the left circle
+                      arc(right, 180 - turn_deg, -180 + turn_deg)])  # then round the right
+
+
+def test_a_figure_eight_at_a_kiss_splits_into_two_rings():
+    from wavepoly.ordering.untangle import split_kissing_rings
+
+    chain = _figure_eight(60.0)
+    assert len(crossing_edges(chain, True)) == 1  # the march crossed over at the kiss
+    rings = split_kissing_rings(chain, radius=0.2)
+    assert len(rings) == 2
+    polys = sorted((shapely.Polygon(r) for r in rings), key=lambda p: p.centroid.x)
+    assert all(p.is_valid for p in polys) and not polys[0].intersects(polys[1])
+    for poly, x in zip(polys, (-1.05, 1.05)):  # each ring holds one circle's points
+        xy = np.asarray(poly.exterior.coords)
+        assert np.allclose(np.hypot(xy[:, 0] - x, xy[:, 1]), 1.0)
+    assert sorted(map(tuple, np.vstack(rings))) == sorted(map(tuple, chain))
+
+
+def test_a_shallow_crossing_in_a_neck_stays_one_ring():
+    # passes that cross at a shallow angle ran along a neck narrower than the tolerance: one
+    # outline, untangled (here the passes cross at about 41 degrees)
+    from wavepoly.ordering.untangle import split_kissing_rings
+
+    rings = split_kissing_rings(_figure_eight(10.0), radius=0.2)
+    assert len(rings) == 1 and shapely.LinearRing(rings[0]).is_simple
+
+
+@pytest.mark.parametrize(("seed", "noise"), [(9, 0.0), (14, 0.0), (10, 0.25)])
+def test_blobs_touching_at_a_pixel_corner_stay_two_rings(seed, noise):
+    """Random blobs (the benchmark's blob sweep, size 0.1) of which two touch at a pixel's
+    corner, their outlines 0.4-0.9 ε apart there: the march ran from one onto the other, and
+    untangling its chain drew both as one outline with a neck (one ring short before)."""
+    from benchmarks.silhouettes import blobs, sample
+
+    rings = blobs(seed, 0.1)
+    eps = 256 * np.sqrt(2) / 150
+    length = sum(shapely.LinearRing(r).length for r in rings)
+    pts = sample(rings, int(3 * length / eps), noise * eps, seed)
+    result = wavepoly.fit(pts, eps)
+    assert all(c.closed for c in result.contours)
+    assert len(result.contours) == len(rings)
+    assert len(result.outliers) == 0
+    _valid(pts, result)
+
+
+def test_a_head_on_a_neck_narrower_than_the_tolerance_stays_one_ring():
+    # silhouette 33 from a 300-pixel bitmap: an arm's tip touches the head, and the march
+    # crossed there at a shallow angle; the truth is one ring
+    from benchmarks.bench_validity import SILHOUETTE_SAMPLINGS
+    from benchmarks.silhouettes import bitmap, sample, silhouette
+
+    pixels, n, eps, noise = SILHOUETTE_SAMPLINGS[3]
+    pts = sample(bitmap(silhouette(33), pixels), n, noise * eps, 1033)
+    result = wavepoly.fit(pts, eps)
+    assert [c.closed for c in result.contours] == [True]
+    _valid(pts, result)
+
+
+def test_rings_split_at_a_neck_stay_closed_when_fitted(monkeypatch):
+    """Two closed rings the ordering left nearly touching (here forced: blob sweep seed 14,
+    noise ε/4, every crossing read as a kiss): the second ring's repaired wavelet polygon cut
+    across the first's edges, the selection may always fall back on it, and both rings were
+    split into open pieces at the crossing. Its backbone is now its repaired ordered points."""
+    import wavepoly.ordering.untangle as untangle_module
+    from benchmarks.silhouettes import blobs, sample
+
+    monkeypatch.setattr(untangle_module, "KISS_ANGLE", 0.0)
+    rings = blobs(14, 0.1)
+    eps = 256 * np.sqrt(2) / 150
+    length = sum(shapely.LinearRing(r).length for r in rings)
+    pts = sample(rings, int(3 * length / eps), 0.25 * eps, 14)
+    result = wavepoly.fit(pts, eps)
+    assert all(c.closed for c in result.contours)
+    _valid(pts, result)

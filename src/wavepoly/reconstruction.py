@@ -38,6 +38,7 @@ from .parameters import (
 )
 from .simplify import edge_of, own_edge_distance, select_vertices
 from .types import SLACK, FloatArray, IntArray, Msc, Pyramid, Reconstruction
+from .validity import obstacle_hits
 
 #: Parameter round-off allowed at an MSC's ends (parameters live in [0, 1]).
 MSC_END_SLACK = 1e-12
@@ -180,7 +181,8 @@ def reconstruct_contour(pyramid: Pyramid, ordered: FloatArray, points: FloatArra
     tolerance : shape tolerance; every point ends within it of the polygon.
     start_level : level to start extracting from (default: the pyramid's coarsest).
     obstacles : edges of the contours already fixed nearby, which the polygon must not meet
-        (`wavepoly.simplify.select_vertices`).
+        (`wavepoly.simplify.select_vertices`). Where the repaired wavelet polygon meets them
+        and the ordered points do not, the repaired ordered points are the backbone.
     simple_backbone : keep the polygon simple where the ordered points are (a clean scan's):
         the selection never forbids its backbone's edges, so where the repaired wavelet polygon
         crosses itself (the walls of a slit closer than the tolerance) the repaired ordered
@@ -228,11 +230,8 @@ def reconstruct_contour(pyramid: Pyramid, ordered: FloatArray, points: FloatArra
     vertices, vparams = _near_curve(vertices, vparams, contour)
     vertices, vparams = _repair(contour, vertices, vparams)
     n_wavelet = len(vertices)
+    vertices, vparams = _valid_backbone(contour, vertices, vparams, obstacles, simple_backbone)
     simple = simple_backbone and _simple(vertices, closed)
-    if simple_backbone and not simple and _simple(ordered, closed):
-        again, again_u = _repair(contour, ordered, fine_u)
-        if _simple(again, closed):
-            vertices, vparams, simple = again, again_u, True
     # the ordered points join the candidates, so the choice is never worse than the best
     # subset of ordered points; the wavelet coefficients add smoothed candidates to it
     # (an ordered point at a vertex's parameter is still new unless it is that very vertex)
@@ -258,6 +257,25 @@ def reconstruct_contour(pyramid: Pyramid, ordered: FloatArray, points: FloatArra
     return Reconstruction(vertices, vparams, closed, gdl,
                           pyramid.coarsest if start_level is None else start_level, n_wavelet,
                           float(dist.max(initial=0.0)), float(dist.mean()) if len(dist) else 0.0)
+
+
+def _valid_backbone(c: _ContourData, vertices: FloatArray, vparams: FloatArray,
+                    obstacles: shapely.STRtree | None, simple_backbone: bool
+                    ) -> tuple[FloatArray, FloatArray]:
+    """The repaired polygon the selection may always fall back on: the wavelet one, or the
+    repaired ordered points where those are more valid. Simplicity (with ``simple_backbone``:
+    the walls of a slit closer than the tolerance make the wavelet polygon cross itself)
+    comes first, then being clear of the ``obstacles`` (where two rings nearly touch, the
+    wavelet polygon may cut a corner across the other's edges)."""
+    def problems(xy: FloatArray) -> tuple[bool, bool]:
+        return (simple_backbone and not _simple(xy, c.closed),
+                obstacles is not None and bool(obstacle_hits(xy, c.closed, obstacles).any()))
+
+    now = problems(vertices)
+    if not any(now) or problems(c.ordered) >= now:
+        return vertices, vparams
+    again, again_u = _repair(c, c.ordered, c.fine_u)
+    return (again, again_u) if problems(again) < now else (vertices, vparams)
 
 
 def _simple(xy: FloatArray, closed: bool) -> bool:

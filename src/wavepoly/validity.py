@@ -158,13 +158,24 @@ def bad_edges(vertices: FloatArray, closed: bool, obstacles: shapely.STRtree | N
         cross = (i != j) & ~adjacent
         bad[i[cross]] = True
     if obstacles is not None:
-        a2, b2 = a.copy(), b.copy()
-        if not closed:  # a stroke may end on another contour
-            a2[0] += END_PULL * (b[0] - a[0])
-            b2[-1] += END_PULL * (a[-1] - b[-1])
-        i, _ = segment_hits(a2, b2, obstacles)
-        bad[i] = True
+        bad |= obstacle_hits(vertices, closed, obstacles)
     return bad
+
+
+def obstacle_hits(vertices: FloatArray, closed: bool, obstacles: shapely.STRtree
+                  ) -> np.ndarray:
+    """Which edges of a polygon (closed) or polyline (open) meet an edge of ``obstacles``; the
+    ends of an open contour may touch them (a junction)."""
+    m = len(vertices) if closed else len(vertices) - 1
+    hit = np.zeros(max(m, 0), dtype=bool)
+    if m < 1:
+        return hit
+    a, b = vertices[:m].copy(), np.roll(vertices, -1, axis=0)[:m].copy()
+    if not closed:  # a stroke may end on another contour
+        a[0] += END_PULL * (b[0] - a[0])
+        b[-1] += END_PULL * (a[-1] - b[-1])
+    hit[segment_hits(a, b, obstacles)[0]] = True
+    return hit
 
 
 def _folds(a: FloatArray, b: FloatArray, closed: bool) -> np.ndarray:

@@ -23,6 +23,7 @@ from .tips import extend_tips
 from .untangle import (
     merge_overlapping_rings,
     split_at_crossings,
+    split_kissing_rings,
     swap_crossed_stretches,
     untangle,
 )
@@ -137,11 +138,11 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
         bends_only = not clean and _dense(xy, closed, len(members), radius)
         xy, far = _cover_cut_corners(xy, pts[members[unsure]], closed, radius, vertex[sure],
                                      outlier_gap, corner_gap=corner_gap, bends_only=bends_only)
-        xy = untangle(xy, closed)
         inside = np.ones(len(members), dtype=bool)
         inside[unsure[far]] = False
         outliers.append(members[~inside])
-        contours.append(OrderedContour(xy, closed, members[inside]))  # sorted: stable argsort
+        rings = split_kissing_rings(xy, radius) if closed else [untangle(xy, closed)]
+        contours += _with_members(rings, closed, members[inside], pts)  # sorted: stable argsort
     outliers = np.sort(np.concatenate(outliers)).astype(np.intp)
     if clean:  # on a noisy scan a group beyond a corner may as well be clutter
         contours, outliers = extend_tips(contours, outliers, pts, radius, outlier_gap)
@@ -152,6 +153,17 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
         contours = close_gaps(close_outlines(contours, pts, radius), pts, radius)
         contours = rejoin_split_tips(contours, radius)
     return contours, outliers
+
+
+def _with_members(chains: list[FloatArray], closed: bool, members: IntArray, pts: FloatArray
+                  ) -> list[OrderedContour]:
+    """Contours of ``chains`` (one chain split in a few), each with the members nearest it."""
+    if len(chains) == 1:
+        return [OrderedContour(chains[0], closed, members)]
+    dist = np.stack([nearest_segment(pts[members], xy, closed)[1] for xy in chains])
+    mine = np.argmin(dist, axis=0)
+    return [OrderedContour(xy, closed, members[mine == k]) for k, xy in enumerate(chains)
+            if (mine == k).any()]
 
 
 def clean_scan(noise: float, radius: float, per_radius: float = np.inf,

@@ -34,6 +34,18 @@ SWITCH_TURN = 20.0
 #: are two parts of one outline that nearly touch (`merge_overlapping_rings`); the 'k' of
 #: STIX at tolerance 0.3 overlaps by 0.04 %.
 OVERLAP_SHARE = 0.01
+#: A closed chain that crosses itself is two shapes that nearly touch, read as one figure
+#: eight (`split_kissing_rings`), when each of its two loops is at least this wide, in radii
+#: (twice its area over its perimeter: a disk's radius); where the march crossed between the
+#: walls of a part narrower than the neighbourhoods, the loop it cuts off is narrower.
+KISSING_WIDTH = 1.5
+#: ... and where its two passes through the crossing meet at at least this angle (degrees):
+#: at a kiss the march runs off one outline onto the other and the passes spread like an X
+#: (blobs touching at a pixel's corner: 61-87 degrees), where it crossed inside a neck
+#: narrower than the tolerance they run along the neck (17-43 degrees).
+KISS_ANGLE = 50.0
+#: Splits tried on one chain: each split leaves two loops that are split again in turn.
+MAX_SPLITS = 8
 
 
 def untangle(xy: FloatArray, closed: bool) -> FloatArray:
@@ -53,6 +65,57 @@ def untangle(xy: FloatArray, closed: bool) -> FloatArray:
         for i, j in _disjoint_runs(pairs):
             out[i + 1:j + 1] = out[i + 1:j + 1][::-1].copy()
     return out
+
+
+def split_kissing_rings(xy: FloatArray, radius: float) -> list[FloatArray]:
+    """A closed chain that crosses itself like a figure eight, as the two rings it visits.
+
+    Where two shapes nearly touch (blobs whose outlines run closer than the neighbourhoods at
+    one spot), the march runs along one outline into the neck and straight on along the other:
+    the chain visits both rings and crosses itself there. A 2-opt move (`untangle`) would keep
+    it one outline with a neck; reconnecting the crossing edges the other way gives the two
+    rings. That is kept where the two passes cross at `KISS_ANGLE` or more, both loops are
+    simple once untangled, lie side by side (neither meets nor holds the other) and are both
+    at least `KISSING_WIDTH` radii wide. Each loop is split again where it still crosses
+    itself.
+    """
+    done, todo = [], [xy]
+    while todo:
+        ring = todo.pop()
+        split = _kissing_split(ring, radius) if len(done) + len(todo) < MAX_SPLITS else None
+        if split is None:
+            done.append(untangle(ring, True))
+        else:
+            todo += split
+    return done
+
+
+def _kissing_split(xy: FloatArray, radius: float) -> list[FloatArray] | None:
+    """The first crossing of closed chain ``xy`` at which it splits into two wide simple
+    loops side by side (`split_kissing_rings`), or None."""
+    if len(xy) < 8:
+        return None
+    for i, j in crossing_edges(xy, True):
+        if _crossing_angle(xy, i, j) < KISS_ANGLE:
+            continue
+        loops = [untangle(xy[i + 1:j + 1], True),
+                 untangle(np.concatenate([xy[j + 1:], xy[:i + 1]]), True)]
+        if min(len(loop) for loop in loops) < 4:
+            continue
+        polys = [shapely.Polygon(loop) for loop in loops]
+        if not all(p.is_valid for p in polys) or shapely.intersects(*polys):
+            continue
+        if min(2 * p.area / p.length for p in polys) >= KISSING_WIDTH * radius:
+            return loops
+    return None
+
+
+def _crossing_angle(xy: FloatArray, i: int, j: int) -> float:
+    """Angle (degrees, 0-90) between edges i and j of closed chain ``xy``."""
+    d1 = np.roll(xy, -1, axis=0)[i] - xy[i]
+    d2 = np.roll(xy, -1, axis=0)[j] - xy[j]
+    cos = abs(d1 @ d2) / max(np.linalg.norm(d1) * np.linalg.norm(d2), 1e-300)
+    return float(np.degrees(np.arccos(min(cos, 1.0))))
 
 
 def crossing_edges(xy: FloatArray, closed: bool) -> IntArray:
