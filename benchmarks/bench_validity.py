@@ -274,8 +274,8 @@ BLOB_HAUSDORFF = 1.5
 def blob_sweep() -> str:
     """Random blobs traced from a bitmap (`benchmarks.silhouettes.blobs`), sampled every ε / 3:
     counted by rings as the silhouettes are, and by geometry (closed, valid, no outliers,
-    within `BLOB_HAUSDORFF` ε of the truth), which forgives blobs that touch at a pixel's
-    corner coming out as one outline."""
+    within `BLOB_HAUSDORFF` ε of the truth), which forgives two blobs within a couple of ε of
+    each other coming out as one outline."""
     from .silhouettes import blobs, sample
 
     truth = _truth()
@@ -309,6 +309,8 @@ def blob_sweep() -> str:
             "*by rings*: every contour closed, one per ring (as the silhouettes are counted), "
             f"valid, no outliers; *by shape*: closed, valid, no outliers and within "
             f"{BLOB_HAUSDORFF:g} ε of the true outlines both ways, which forgives two blobs "
-            "touching at a corner, 0.3 ε apart, drawn as one outline.\n\n"
+            "drawn as one outline where they come within a couple of ε of each other (with "
+            "noise, a corner of one 1.2-1.9 ε from the other, inside the neighbourhoods "
+            "widened to follow the curves through it).\n\n"
             + table(["blob size", "noise", "right by rings", "right by shape", "invalid",
                      "seconds"], rows))

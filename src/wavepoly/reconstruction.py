@@ -181,8 +181,9 @@ def reconstruct_contour(pyramid: Pyramid, ordered: FloatArray, points: FloatArra
     tolerance : shape tolerance; every point ends within it of the polygon.
     start_level : level to start extracting from (default: the pyramid's coarsest).
     obstacles : edges of the contours already fixed nearby, which the polygon must not meet
-        (`wavepoly.simplify.select_vertices`). Where the repaired wavelet polygon meets them
-        and the ordered points do not, the repaired ordered points are the backbone.
+        (`wavepoly.simplify.select_vertices`). On a clean scan, where the repaired wavelet
+        polygon meets them and the ordered points do not, the repaired ordered points are the
+        backbone.
     simple_backbone : keep the polygon simple where the ordered points are (a clean scan's):
         the selection never forbids its backbone's edges, so where the repaired wavelet polygon
         crosses itself (the walls of a slit closer than the tolerance) the repaired ordered
@@ -262,15 +263,18 @@ def reconstruct_contour(pyramid: Pyramid, ordered: FloatArray, points: FloatArra
 def _valid_backbone(c: _ContourData, vertices: FloatArray, vparams: FloatArray,
                     obstacles: shapely.STRtree | None, simple_backbone: bool
                     ) -> tuple[FloatArray, FloatArray]:
-    """The repaired polygon the selection may always fall back on: the wavelet one, or the
-    repaired ordered points where those are more valid. Simplicity (with ``simple_backbone``:
-    the walls of a slit closer than the tolerance make the wavelet polygon cross itself)
-    comes first, then being clear of the ``obstacles`` (where two rings nearly touch, the
-    wavelet polygon may cut a corner across the other's edges)."""
+    """The repaired polygon the selection may always fall back on: the wavelet one, or, with
+    ``simple_backbone`` (a clean scan), the repaired ordered points where those are more
+    valid. Simplicity (the walls of a slit closer than the tolerance make the wavelet polygon
+    cross itself) comes first, then being clear of the ``obstacles`` (where two rings nearly
+    touch, the wavelet polygon may cut a corner across the other's edges). On a noisy scan
+    the ordered points zigzag through the band, and a crossing is split instead."""
     def problems(xy: FloatArray) -> tuple[bool, bool]:
-        return (simple_backbone and not _simple(xy, c.closed),
+        return (not _simple(xy, c.closed),
                 obstacles is not None and bool(obstacle_hits(xy, c.closed, obstacles).any()))
 
+    if not simple_backbone:
+        return vertices, vparams
     now = problems(vertices)
     if not any(now) or problems(c.ordered) >= now:
         return vertices, vparams
