@@ -46,6 +46,8 @@ KISSING_WIDTH = 1.5
 KISS_ANGLE = 50.0
 #: Splits tried on one chain: each split leaves two loops that are split again in turn.
 MAX_SPLITS = 8
+#: A loop of fewer nodes encloses no shape worth a ring of its own.
+MIN_LOOP_NODES = 4
 
 
 def untangle(xy: FloatArray, closed: bool) -> FloatArray:
@@ -93,14 +95,14 @@ def split_kissing_rings(xy: FloatArray, radius: float) -> list[FloatArray]:
 def _kissing_split(xy: FloatArray, radius: float) -> list[FloatArray] | None:
     """The first crossing of closed chain ``xy`` at which it splits into two wide simple
     loops side by side (`split_kissing_rings`), or None."""
-    if len(xy) < 8:
+    if len(xy) < 2 * MIN_LOOP_NODES:
         return None
     for i, j in crossing_edges(xy, True):
         if _crossing_angle(xy, i, j) < KISS_ANGLE:
             continue
         loops = [untangle(xy[i + 1:j + 1], True),
                  untangle(np.concatenate([xy[j + 1:], xy[:i + 1]]), True)]
-        if min(len(loop) for loop in loops) < 4:
+        if min(len(loop) for loop in loops) < MIN_LOOP_NODES:
             continue
         polys = [shapely.Polygon(loop) for loop in loops]
         if not all(p.is_valid for p in polys) or shapely.intersects(*polys):
