@@ -88,10 +88,14 @@ def fit(points: FloatArray, tolerance: float, *,
     contours: list[Contour | None] = [None] * n
     reports: list[ContourReport | None] = [None] * n
     near = _neighbours(pts, ordering.contours, tolerance)
-    # the longest first: each later contour keeps clear of the ones already fixed near it
+    # the longest first: each later contour keeps clear of the ones already fixed near it,
+    # and of the ordered rings of the closed ones still to come, so that those keep their
+    # ordered points as a valid path (where two rings nearly touch, the first would otherwise
+    # cut its corner across the second's points)
     for done, k in enumerate(np.argsort([-len(oc.members) for oc in ordering.contours],
                                         kind="stable")):
-        fixed = [contours[j] for j in near[k] if contours[j] is not None]
+        fixed = [contours[j] if contours[j] is not None else _ordered_ring(ordering.contours[j])
+                 for j in near[k] if contours[j] is not None or ordering.contours[j].closed]
         contours[k], reports[k], times = fit_contour(pts, ordering.contours[k], tolerance,
                                                      relative_tolerance, obstacle_tree(fixed),
                                                      clean=ordering.clean)
@@ -271,6 +275,11 @@ def _outliers_left(points: FloatArray, outliers: IntArray, contours: list[Contou
     np.minimum.at(gap, point, shapely.distance(where[point], tree.geometries[line]))
     covered = np.isfinite(gap)
     return outliers[~covered], float(gap[covered].max())
+
+
+def _ordered_ring(oc: OrderedContour) -> Contour:
+    """A closed contour's ordered points as a polygon (an obstacle to its neighbours' fits)."""
+    return Contour(oc.points, True, 0.0, 0.0)
 
 
 def _neighbours(points: FloatArray, ordered: list[OrderedContour], tolerance: float
