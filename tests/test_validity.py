@@ -467,18 +467,24 @@ def test_a_shallow_crossing_in_a_neck_stays_one_ring():
     assert len(rings) == 1 and shapely.LinearRing(rings[0]).is_simple
 
 
-@pytest.mark.parametrize(("seed", "noise"), [(9, 0.0), (14, 0.0), (10, 0.25)])
-def test_blobs_touching_at_a_pixel_corner_stay_two_rings(seed, noise):
-    """Random blobs (the benchmark's blob sweep, size 0.1) of which two touch at a pixel's
-    corner, their outlines 0.4-0.9 ε apart there: the march ran from one onto the other, and
-    untangling its chain drew both as one outline with a neck (one ring short before)."""
+def _blobs_fitted(seed: int, noise: float):
+    """The benchmark's blob sweep image ``seed`` (blob size 0.1, ε = diagonal / 150),
+    sampled every ε / 3 with noise ``noise`` ε, and its fit: (points, result, true rings)."""
     from benchmarks.silhouettes import blobs, sample
 
     rings = blobs(seed, 0.1)
     eps = 256 * np.sqrt(2) / 150
     length = sum(shapely.LinearRing(r).length for r in rings)
     pts = sample(rings, int(3 * length / eps), noise * eps, seed)
-    result = wavepoly.fit(pts, eps)
+    return pts, wavepoly.fit(pts, eps), rings
+
+
+@pytest.mark.parametrize(("seed", "noise"), [(9, 0.0), (14, 0.0), (10, 0.25)])
+def test_blobs_touching_at_a_pixel_corner_stay_two_rings(seed, noise):
+    """Random blobs (the benchmark's blob sweep, size 0.1) of which two touch at a pixel's
+    corner, their outlines 0.4-0.9 ε apart there: the march ran from one onto the other, and
+    untangling its chain drew both as one outline with a neck (one ring short before)."""
+    pts, result, rings = _blobs_fitted(seed, noise)
     assert all(c.closed for c in result.contours)
     assert len(result.contours) == len(rings)
     assert len(result.outliers) == 0
@@ -504,14 +510,8 @@ def test_rings_split_at_a_neck_stay_closed_when_fitted(monkeypatch):
     across the first's edges, the selection may always fall back on it, and both rings were
     split into open pieces at the crossing. Its backbone is now its repaired ordered points."""
     import wavepoly.ordering.untangle as untangle_module
-    from benchmarks.silhouettes import blobs, sample
-
     monkeypatch.setattr(untangle_module, "KISS_ANGLE", 0.0)
-    rings = blobs(14, 0.1)
-    eps = 256 * np.sqrt(2) / 150
-    length = sum(shapely.LinearRing(r).length for r in rings)
-    pts = sample(rings, int(3 * length / eps), 0.25 * eps, 14)
-    result = wavepoly.fit(pts, eps)
+    pts, result, _ = _blobs_fitted(14, 0.25)
     assert all(c.closed for c in result.contours)
     _valid(pts, result)
 
@@ -522,12 +522,6 @@ def test_a_ring_fitted_first_keeps_clear_of_a_closed_neighbour_still_to_come():
     points, so no polygon of the smaller one could keep clear of it, and both were split
     open at the crossing (2 open pieces). The first now keeps clear of the second's ordered
     ring."""
-    from benchmarks.silhouettes import blobs, sample
-
-    rings = blobs(36, 0.1)
-    eps = 256 * np.sqrt(2) / 150
-    length = sum(shapely.LinearRing(r).length for r in rings)
-    pts = sample(rings, int(3 * length / eps), 0.25 * eps, 36)
-    result = wavepoly.fit(pts, eps)
+    pts, result, _ = _blobs_fitted(36, 0.25)
     assert all(c.closed for c in result.contours)
     _valid(pts, result)
