@@ -22,6 +22,7 @@ from .stems import close_outlines
 from .tips import extend_tips
 from .untangle import (
     merge_overlapping_rings,
+    share_members,
     split_at_crossings,
     split_kissing_rings,
     swap_crossed_stretches,
@@ -142,7 +143,10 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
         inside[unsure[far]] = False
         outliers.append(members[~inside])
         rings = split_kissing_rings(xy, radius) if closed else [untangle(xy, closed)]
-        contours += _with_members(rings, closed, members[inside], pts)  # sorted: stable argsort
+        if len(rings) == 1:
+            contours.append(OrderedContour(rings[0], closed, members[inside]))  # sorted
+        else:
+            contours += share_members(rings, members[inside], pts, closed=True)
     outliers = np.sort(np.concatenate(outliers)).astype(np.intp)
     if clean:  # on a noisy scan a group beyond a corner may as well be clutter
         contours, outliers = extend_tips(contours, outliers, pts, radius, outlier_gap)
@@ -153,17 +157,6 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
         contours = close_gaps(close_outlines(contours, pts, radius), pts, radius)
         contours = rejoin_split_tips(contours, radius)
     return contours, outliers
-
-
-def _with_members(chains: list[FloatArray], closed: bool, members: IntArray, pts: FloatArray
-                  ) -> list[OrderedContour]:
-    """Contours of ``chains`` (one chain split in a few), each with the members nearest it."""
-    if len(chains) == 1:
-        return [OrderedContour(chains[0], closed, members)]
-    dist = np.stack([nearest_segment(pts[members], xy, closed)[1] for xy in chains])
-    mine = np.argmin(dist, axis=0)
-    return [OrderedContour(xy, closed, members[mine == k]) for k, xy in enumerate(chains)
-            if (mine == k).any()]
 
 
 def clean_scan(noise: float, radius: float, per_radius: float = np.inf,

@@ -114,8 +114,8 @@ def _kissing_split(xy: FloatArray, radius: float) -> list[FloatArray] | None:
 
 def _crossing_angle(xy: FloatArray, i: int, j: int) -> float:
     """Angle (degrees, 0-90) between edges i and j of closed chain ``xy``."""
-    d1 = np.roll(xy, -1, axis=0)[i] - xy[i]
-    d2 = np.roll(xy, -1, axis=0)[j] - xy[j]
+    d1 = xy[(i + 1) % len(xy)] - xy[i]
+    d2 = xy[(j + 1) % len(xy)] - xy[j]
     cos = abs(d1 @ d2) / max(np.linalg.norm(d1) * np.linalg.norm(d2), 1e-300)
     return float(np.degrees(np.arccos(min(cos, 1.0))))
 
@@ -293,18 +293,20 @@ def split_at_crossings(contours: list[OrderedContour], points: FloatArray
         if k not in pieces:
             out.append(contour)
         else:
-            out += _share_members(pieces[k], contour.members, points)
+            out += share_members(pieces[k], contour.members, points)
     return out
 
 
-def _share_members(pieces: list[FloatArray], members: IntArray, points: FloatArray
-                   ) -> list[OrderedContour]:
-    """Open contours of the pieces, each with the members nearest to it."""
+def share_members(pieces: list[FloatArray], members: IntArray, points: FloatArray,
+                  closed: bool = False) -> list[OrderedContour]:
+    """Contours of the pieces of one chain (open pieces, or ``closed`` rings), each with the
+    members nearest to it."""
     if not pieces:
         return []
-    a = np.concatenate([p[:-1] for p in pieces])
-    b = np.concatenate([p[1:] for p in pieces])
-    piece_of = np.repeat(np.arange(len(pieces)), [len(p) - 1 for p in pieces])
+    ends = [np.roll(p, -1, axis=0) if closed else p[1:] for p in pieces]
+    a = np.concatenate([p[:len(e)] for p, e in zip(pieces, ends)])
+    b = np.concatenate(ends)
+    piece_of = np.repeat(np.arange(len(pieces)), [len(e) for e in ends])
     nearest = piece_of[nearest_of_segments(points[members], a, b)[0]]
-    return [OrderedContour(p, False, members[nearest == k]) for k, p in enumerate(pieces)
+    return [OrderedContour(p, closed, members[nearest == k]) for k, p in enumerate(pieces)
             if (nearest == k).any()]  # a piece that stands for no point is no curve
