@@ -33,6 +33,9 @@ Python loop runs over points:
    notch the march turned back from: the turn's vertex moves out to it (`tips`). Open pieces
    that form one cycle with stems hanging off it (a slit or a thin limb whose walls the march
    followed as one chain) become a closed outline that walks each stem out and back (`stems`).
+   A ring capped across a narrow root, facing a bare straight stretch of another ring (a limb
+   or a pocket the march closed on itself while the body's outline ran past), joins that ring
+   as one outline (`mouths`).
 5. On a noisy scan the outliers are read again: the compact strokes among them (a ghost wall
    beside a wall, the foot of a short wall meeting it) become contours clear of the first
    ones (`strokes`).

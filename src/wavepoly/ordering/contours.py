@@ -16,6 +16,7 @@ from ..geometry import nearest_segment, nearest_site, polyline_length
 from ..types import Chain, FloatArray, IntArray, OrderedContour
 from .gaps import close_gaps
 from .marching import CORNER_TURN, turning
+from .mouths import join_through_mouths
 from .neighbourhoods import Nodes
 from .split_tips import rejoin_split_tips
 from .stems import close_outlines
@@ -155,7 +156,7 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
     # on a noisy scan (a laser map) a room's wall and a short wall meeting it are lines
     if stems and clean:
         contours = close_gaps(close_outlines(contours, pts, radius), pts, radius)
-        contours = rejoin_split_tips(contours, radius)
+        contours = join_through_mouths(rejoin_split_tips(contours, radius), pts, radius)
     return contours, outliers
 
 

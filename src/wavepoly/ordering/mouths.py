@@ -1,0 +1,209 @@
+"""Two rings the march closed across a narrow mouth: one outline, not two.
+
+Where a limb meets the body through a root a few radii wide, or a pocket opens through a mouth
+as narrow, the march can close the limb (the pocket) on itself across its root and run the
+body's outline straight past it: two closed rings where the truth is one. The limb's ring ends
+in a *cap*, an edge across the root where it turns sharply the same way at both ends (its two
+walls end there); the body's ring *passes* the root on a straight edge that is *bare*, with no
+points along it, since no wall runs across a root. Replacing the cap and the pass by the two
+links between their ends (a 2-opt move between the rings) gives the one outline. Two rings of
+their own that come close (two blobs a tolerance apart) face each other along walls of points,
+and curve gently where they do, so they stay apart.
+
+References
+----------
+.. [1] G. A. Croes, "A method for solving traveling-salesman problems", Operations Research
+   6(6), 1958, pp. 791-812 (the 2-opt move).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import shapely
+from scipy.spatial import cKDTree
+
+from ..geometry import curve_line, polyline_distance, polyline_length
+from ..types import FloatArray, OrderedContour
+
+#: A cap turns by at least this (degrees) at both of its ends, the same way (a limb cut at its
+#: root: 121 and 60); ordered points half a radius to a radius apart turn by some 20 degrees
+#: each on a blob a few radii across.
+CAP_TURN = 45.0
+#: A pass turns by at most this at either end, over one edge and over two.
+PASS_TURN = 30.0
+#: Cap and pass face each other: the angle between them is at most this (degrees).
+FACING = 30.0
+#: They come this many radii close: the march closes a limb across a root up to about two
+#: radii wide.
+MOUTH_REACH = 3.0
+#: The points along a segment are those within this many radii of it, away from its ends...
+BAND = 0.5
+#: ... at least this many radii from either end (the walls the segment ends on lie there).
+END_CLEARANCE = 0.5
+#: A pass is bare when it holds at most this share of the points a wall as long would hold
+#: (at the rings' own points per length)...
+BARE_SHARE = 0.25
+#: ... judged where such a wall would hold at least this many points.
+MIN_EXPECTED = 1.5
+#: Joins made per call; each leaves one ring fewer.
+MAX_JOINS = 8
+
+
+def join_through_mouths(contours: list[OrderedContour], points: FloatArray, radius: float
+                        ) -> list[OrderedContour]:
+    """Join a ring capped at a narrow root to the ring that passes the root, as one ring.
+
+    A join replaces the cap and the pass by the two links between their ends, each at most
+    `MOUTH_REACH` radii long, when the joined ring is a valid polygon that meets no other
+    contour and keeps every member of the two as near as its own ring did (or within a
+    radius).
+
+    Parameters
+    ----------
+    contours : the ordered contours; only closed ones are joined.
+    points : the input points (the contours' members index them).
+    radius : the neighbourhood radius of the ordering.
+
+    Returns
+    -------
+    The contours, joined rings replaced by the one ring they make.
+    """
+    tree = cKDTree(points)
+    out = list(contours)
+    for _ in range(MAX_JOINS):
+        join = _first_join(out, points, tree, radius)
+        if join is None:
+            break
+        a, b, ring = join
+        members = np.union1d(out[a].members, out[b].members)
+        out[a] = OrderedContour(ring, True, members)
+        del out[b]
+    return out
+
+
+def _first_join(contours: list[OrderedContour], points: FloatArray, tree: cKDTree,
+                radius: float) -> tuple[int, int, FloatArray] | None:
+    """The first cap and pass of two rings (nearest first) that join, with the joined ring."""
+    rings = [k for k, c in enumerate(contours) if c.closed and len(c.points) >= 4]
+    if len(rings) < 2:
+        return None
+    caps = [(k, e) for k in rings for e in _caps(contours[k].points)]
+    if not caps:
+        return None
+    length = sum(polyline_length(contours[k].points, True) for k in rings)
+    density = sum(len(contours[k].members) for k in rings) / max(length, 1e-300)
+    passes = [(k, f) for k in rings for f in _bare_passes(contours[k].points, tree, radius,
+                                                          density)]
+    if not passes:
+        return None
+    cap_lines = [shapely.LineString(_edge(contours[k].points, e)) for k, e in caps]
+    pass_lines = shapely.STRtree([shapely.LineString(_edge(contours[k].points, f))
+                                  for k, f in passes])
+    near_cap, near_pass = pass_lines.query(cap_lines, predicate="dwithin",
+                                           distance=MOUTH_REACH * radius)
+    pairs = sorted((float(cap_lines[i].distance(pass_lines.geometries[j])), i, j)
+                   for i, j in zip(near_cap, near_pass) if caps[i][0] != passes[j][0])
+    lines = shapely.STRtree([curve_line(c.points, c.closed) for c in contours])
+    for _, i, j in pairs:
+        (a, e), (b, f) = caps[i], passes[j]
+        one, two = contours[a].points, contours[b].points
+        if not _facing(_edge(one, e), _edge(two, f)):
+            continue
+        ring = _joined(one, e, two, f, radius)
+        if ring is not None and _fits(ring, a, b, contours, points, lines, radius):
+            return min(a, b), max(a, b), ring
+    return None
+
+
+def _caps(xy: FloatArray) -> list[int]:
+    """Edges e (xy[e] to xy[e + 1]) where the ring turns by `CAP_TURN` or more the same way
+    at both ends."""
+    before, after = _turns(xy, 1)
+    cap = (np.abs(before) >= CAP_TURN) & (np.abs(after) >= CAP_TURN) & (before * after > 0)
+    return np.flatnonzero(cap).tolist()
+
+
+def _bare_passes(xy: FloatArray, tree: cKDTree, radius: float, density: float) -> list[int]:
+    """Edges where the ring runs straight on (`PASS_TURN`, over one edge and two) with no
+    wall of points along the edge (`BARE_SHARE`)."""
+    straight = np.ones(len(xy), dtype=bool)
+    for step in (1, 2):
+        before, after = _turns(xy, step)
+        straight &= (np.abs(before) <= PASS_TURN) & (np.abs(after) <= PASS_TURN)
+    nxt = np.roll(xy, -1, axis=0)
+    out = []
+    for f in np.flatnonzero(straight):
+        held, expected = _points_along(xy[f], nxt[f], tree, radius, density)
+        if expected >= MIN_EXPECTED and held <= BARE_SHARE * expected:
+            out.append(int(f))
+    return out
+
+
+def _turns(xy: FloatArray, step: int) -> tuple[FloatArray, FloatArray]:
+    """Signed turns (degrees) into each edge from the edge ``step`` before it, and out of it
+    to the edge ``step`` after it."""
+    d = np.roll(xy, -1, axis=0) - xy
+    def turn(u: FloatArray, v: FloatArray) -> FloatArray:
+        cross = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
+        return np.degrees(np.arctan2(cross, np.einsum("ij,ij->i", u, v)))
+    return turn(np.roll(d, step, axis=0), d), turn(d, np.roll(d, -step, axis=0))
+
+
+def _points_along(a: FloatArray, b: FloatArray, tree: cKDTree, radius: float,
+                  density: float) -> tuple[int, float]:
+    """Points within `BAND` radii of the segment a-b away from its ends (`END_CLEARANCE`),
+    and how many a wall that long would hold at ``density`` points per length."""
+    length = float(np.linalg.norm(b - a))
+    inner = length - 2 * END_CLEARANCE * radius
+    if inner <= 0:
+        return 0, 0.0
+    rel = tree.data[tree.query_ball_point((a + b) / 2, length / 2 + BAND * radius)] - a
+    along = rel @ (b - a) / length
+    across = np.abs(rel[:, 0] * (b - a)[1] - rel[:, 1] * (b - a)[0]) / length
+    inside = ((along >= END_CLEARANCE * radius) & (along <= length - END_CLEARANCE * radius)
+              & (across <= BAND * radius))
+    return int(inside.sum()), density * inner
+
+
+def _facing(cap: FloatArray, wall: FloatArray) -> bool:
+    """Do the two edges lie within `FACING` degrees of parallel?"""
+    u, v = cap[1] - cap[0], wall[1] - wall[0]
+    sine = abs(u[0] * v[1] - u[1] * v[0]) / max(np.linalg.norm(u) * np.linalg.norm(v), 1e-300)
+    return bool(sine <= np.sin(np.radians(FACING)))
+
+
+def _joined(one: FloatArray, e: int, two: FloatArray, f: int, radius: float
+            ) -> FloatArray | None:
+    """The ring through ``one`` without its edge e and ``two`` without its edge f, linked end
+    to end by links at most `MOUTH_REACH` radii long (either way round ``two``) into a valid
+    polygon, or None."""
+    p = np.roll(one, -(e + 1), axis=0)  # starts after the edge, ends before it
+    q = np.roll(two, -(f + 1), axis=0)
+    reach = MOUTH_REACH * radius
+    for path in (q, q[::-1]):
+        if (np.linalg.norm(p[-1] - path[0]) <= reach
+                and np.linalg.norm(path[-1] - p[0]) <= reach):
+            ring = np.vstack([p, path])
+            if shapely.Polygon(ring).is_valid:
+                return ring
+    return None
+
+
+def _fits(ring: FloatArray, a: int, b: int, contours: list[OrderedContour],
+          points: FloatArray, lines: shapely.STRtree, radius: float) -> bool:
+    """Does the joined ring meet no other contour and keep every member of the two as near
+    as its own ring did (or within a radius)?"""
+    hit = lines.query(shapely.LinearRing(ring), predicate="intersects")
+    if np.any((hit != a) & (hit != b)):
+        return False
+    for k in (a, b):
+        members = points[contours[k].members]
+        before = polyline_distance(members, contours[k].points, True).max(initial=0.0)
+        after = polyline_distance(members, ring, True).max(initial=0.0)
+        if after > max(before, radius):
+            return False
+    return True
+
+
+def _edge(xy: FloatArray, e: int) -> FloatArray:
+    return np.vstack([xy[e], xy[(e + 1) % len(xy)]])

@@ -1,0 +1,83 @@
+"""A limb the march closed across its root joins the body's outline (`wavepoly.ordering.mouths`);
+two shapes that only come close stay two rings."""
+
+from __future__ import annotations
+
+import numpy as np
+import shapely
+
+import wavepoly
+from wavepoly.ordering.mouths import join_through_mouths
+from wavepoly.types import OrderedContour
+
+from .test_validity import _valid
+
+RADIUS = 0.4
+SPACING = 0.05  # between input points along the walls
+STEP = 0.25  # between the ordered points along the walls
+
+
+def _walk(corners: list[tuple[float, float]], step: float) -> np.ndarray:
+    """Points every ``step`` along the open polyline through ``corners``."""
+    out = []
+    for a, b in zip(corners[:-1], corners[1:]):
+        a, b = np.asarray(a, float), np.asarray(b, float)
+        n = max(int(round(np.linalg.norm(b - a) / step)), 1)
+        out.append(a + np.linspace(0, 1, n, endpoint=False)[:, None] * (b - a))
+    return np.vstack(out)
+
+
+def _body_and_limb(root_open: bool):
+    """A 10 x 4 body whose top wall opens, from x 4.6 to 5.4, into a limb 0.8 wide and 4 long
+    (``root_open``), or runs on under a limb standing 0.3 above it, closed at its foot.
+
+    The ordered rings are as the march leaves them at a root: the body's ring runs straight
+    across the root on one edge (4.5 to 5.5), the limb's ring is capped across it at y 4.3."""
+    top_left = [(0, 0), (10, 0), (10, 4), (5.4, 4)]
+    top_right = [(4.6, 4), (0, 4), (0, 0)]
+    limb = [(5.4, 4.0 if root_open else 4.3), (5.4, 8), (4.6, 8), (4.6, 4.0 if root_open else 4.3)]
+    body_pts = np.vstack([_walk(top_left, SPACING), _walk(top_right + [(0, 0)], SPACING)]
+                         if root_open else [_walk([(0, 0), (10, 0), (10, 4), (0, 4), (0, 0)],
+                                                  SPACING)])
+    limb_pts = _walk(limb if root_open else limb + [limb[0]], SPACING)
+    points = np.vstack([body_pts, limb_pts])
+    body_ring = np.vstack([_walk([(0, 0), (10, 0), (10, 4), (5.5, 4)], STEP), [(5.5, 4)],
+                           _walk([(4.5, 4), (0, 4), (0, 0)], STEP)])
+    limb_ring = np.vstack([_walk([(5.4, 4.3), (5.4, 8), (4.6, 8), (4.6, 4.3)], STEP),
+                           [(4.6, 4.3)]])
+    body = OrderedContour(body_ring, True, np.arange(len(body_pts)))
+    limb = OrderedContour(limb_ring, True, len(body_pts) + np.arange(len(limb_pts)))
+    return points, [body, limb]
+
+
+def test_a_limb_closed_across_its_root_joins_the_body():
+    points, rings = _body_and_limb(root_open=True)
+    out = join_through_mouths(rings, points, RADIUS)
+    assert len(out) == 1 and out[0].closed
+    polygon = shapely.Polygon(out[0].points)
+    assert polygon.is_valid
+    assert polygon.contains(shapely.Point(5.0, 6.0))  # the limb is part of the shape
+    assert np.array_equal(np.sort(out[0].members), np.arange(len(points)))
+
+
+def test_a_shape_standing_clear_of_a_wall_stays_apart():
+    # the body's wall runs on under the limb: points all along the edge the march drew there
+    points, rings = _body_and_limb(root_open=False)
+    out = join_through_mouths(rings, points, RADIUS)
+    assert len(out) == 2
+
+
+def test_a_silhouette_limb_with_a_narrow_root_is_one_outline():
+    """Silhouette sweep row 2, seed 56 (1000 points, noise ε/4): a limb joins the body through
+    a root about 2 tolerances wide, sampled by a few points; the march closed the limb across
+    its root and ran the body past it (two closed rings)."""
+    from benchmarks.bench_validity import SILHOUETTE_SAMPLINGS
+    from benchmarks.silhouettes import sample, silhouette
+
+    pixels, n, eps, noise = SILHOUETTE_SAMPLINGS[2]
+    assert pixels is None
+    pts = sample(silhouette(56), n, noise * eps, 1056)
+    result = wavepoly.fit(pts, eps)
+    assert [c.closed for c in result.contours] == [True]
+    assert len(result.outliers) == 0
+    _valid(pts, result)
