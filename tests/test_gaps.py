@@ -49,3 +49,12 @@ def test_a_ring_left_open_ten_radii_short_over_its_own_points_closes():
     out = close_gaps([piece], pts, RADIUS)
     assert [c.closed for c in out] == [True]
     assert shapely.Polygon(out[0].points).is_valid
+
+
+def test_a_ring_left_open_fourteen_radii_short_over_its_own_points_closes():
+    # where a noisy limb's walls merged the march stopped 12.4 radii short of its start
+    pts = _circle()
+    piece = OrderedContour(pts[18:-18:6], False, np.arange(600))
+    gap = np.linalg.norm(piece.points[0] - piece.points[-1])
+    assert 14 * RADIUS < gap < 15 * RADIUS
+    assert [c.closed for c in close_gaps([piece], pts, RADIUS)] == [True]

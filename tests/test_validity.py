@@ -396,12 +396,13 @@ def test_glyphs_scanned_noisier_than_the_tolerance_are_clean_outlines(text):
     assert 0.1 < len(res.outliers) / len(pts) < 0.2
 
 
-@pytest.mark.parametrize("seed", [4, 20, 28])
+@pytest.mark.parametrize("seed", [4, 20, 28, 48])
 def test_a_bitmap_traced_outline_with_noise_has_no_outliers(seed):
     """A silhouette traced from a 200-pixel bitmap (staircase walls a pixel, ε / 2, high)
     sampled with noise ε / 4: the staircase adds to the scatter the ordering measures
     (0.28-0.31 radii), but the sampling is clean, and no point is an outlier (1 or 2 were,
-    at a limb's tip or where a limb meets the body)."""
+    at a limb's tip or where a limb meets the body). Seed 48: the march stopped 12.4 radii
+    short of closing the outline, at a limb whose walls merged (one open piece)."""
     from benchmarks.silhouettes import bitmap, sample, silhouette
 
     rings = bitmap(silhouette(seed), 200)

@@ -19,9 +19,10 @@ from ..types import FloatArray, OrderedContour
 from .untangle import untangle
 
 #: An open piece closes across a gap of at most this many radii (the march stops up to some 6
-#: radii short where a spur's merged walls end it, and 10.5 at the horse's tail in
-#: scikit-image, a run of one-pixel spurs each 3 to 4 radii long)...
-GAP_REACH = 12.0
+#: radii short where a spur's merged walls end it, 10.5 at the horse's tail in scikit-image,
+#: a run of one-pixel spurs each 3 to 4 radii long, and 12.4 at the root of a noisy bitmap
+#: silhouette's limb whose walls merged; a gap is closed only where points fill it)...
+GAP_REACH = 18.0
 #: ... when it is at least this many times as long as the gap: the two ends of a short curved
 #: stroke lie near each other too.
 GAP_LENGTH = 10.0
