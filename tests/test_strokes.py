@@ -219,3 +219,19 @@ def test_floor_plans_are_valid_and_within_the_tolerance(plan):
     assert distance_to_output(pts[inliers], res).max() <= TOLERANCE * (1 + 1e-9)
     if len(res.outliers):
         assert distance_to_output(pts[res.outliers], res).min() > TOLERANCE
+
+
+def test_no_teeth_along_a_ghost_that_starts_at_a_corner():
+    """The Intel map's corridor at (-4, -16.6): a wall turns a corner, and a fainter band runs
+    beside one leg from the corner on, 1.2 tolerances off. The corner's rounded segments take
+    a vertex out to the corner's points; each inserted vertex made the straight stretch beside
+    it a bend in the next round, so vertices went on out to the band along the whole leg (a
+    square wave). The stretch keeps the straightness it came with, and the band is a stroke."""
+    rng = np.random.default_rng(5)
+    leg = np.column_stack([rng.uniform(0, 6, 12000), rng.normal(0, SCATTER, 12000)])
+    up = np.column_stack([rng.normal(0, SCATTER, 8000), rng.uniform(0, 4, 8000)])
+    ghost = np.column_stack([rng.uniform(0.1, 4, 2500), rng.normal(-0.12, 0.015, 2500)])
+    pts = np.vstack([leg, up, ghost])
+    res = wavepoly.fit(pts, TOLERANCE)
+    assert res.validity.valid and teeth(res) == 0
+    assert len(res.outliers) <= 0.01 * len(pts)

@@ -195,7 +195,9 @@ def _cover_cut_corners(xy: FloatArray, members: FloatArray, closed: bool, radius
     this put a point on a corner that neighbourhood averaging rounded off. Lone noisy points
     never qualify, nor does a halo of strays about a dense wall (a few points among the many
     of each stretch); with ``bends_only`` (a dense curve, `DENSE_CURVE`), nor does a group
-    beside a stretch the chain runs straight through (`STRAIGHT_TURN`).
+    beside a stretch the chain runs straight through (`STRAIGHT_TURN`) as it came: a vertex
+    inserted at a bend beside it does not make it a bend (a ghost wall starting at a corner
+    was reached from every vertex along it, round by round).
     ``near_vertex`` holds, for further points of the chain not in ``members``, the vertex each
     lies within the gap of: they count half to each segment beside it.
     Returns the new chain and the members still farther than ``outlier_gap`` (default: the
@@ -204,6 +206,8 @@ def _cover_cut_corners(xy: FloatArray, members: FloatArray, closed: bool, radius
     near_vertex = np.empty(0, dtype=np.intp) if near_vertex is None else near_vertex
     ring = closed and len(xy) >= 3
     gap = CORNER_GAP * radius if corner_gap is None else corner_gap
+    # straight as the chain came: a vertex inserted beside a stretch must not make it a bend
+    straight = _straight_segments(xy, ring) if bends_only else np.zeros(len(xy), dtype=bool)
     for round_ in range(rounds + 1):
         seg, dist = nearest_segment(members, xy, ring)
         far = np.flatnonzero(dist > gap)
@@ -214,14 +218,12 @@ def _cover_cut_corners(xy: FloatArray, members: FloatArray, closed: bool, radius
             worst[seg[order]] = order  # the last write per segment is its farthest point
             total = np.bincount(seg, minlength=len(xy)) + _beside(near_vertex, len(xy), ring)
             counts = np.bincount(seg[far], minlength=len(xy))
-            cut = _cut_corner(counts, total)
-            if bends_only:
-                cut &= ~_straight_segments(xy, ring)
-            segs = np.flatnonzero(cut)
+            segs = np.flatnonzero(_cut_corner(counts, total) & ~straight)
         if not len(segs):
             return xy, far[dist[far] > (radius if outlier_gap is None else outlier_gap)]
         near_vertex = near_vertex + np.searchsorted(segs + 1, near_vertex, side="right")
         xy = np.insert(xy, segs + 1, members[worst[segs]], axis=0)
+        straight = np.insert(straight, segs + 1, straight[segs])
     raise AssertionError("unreachable")  # pragma: no cover
 
 
