@@ -143,10 +143,13 @@ def _turns(xy: FloatArray, step: int) -> tuple[FloatArray, FloatArray]:
     """Signed turns (degrees) into each edge from the edge ``step`` before it, and out of it
     to the edge ``step`` after it."""
     d = np.roll(xy, -1, axis=0) - xy
-    def turn(u: FloatArray, v: FloatArray) -> FloatArray:
-        cross = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
-        return np.degrees(np.arctan2(cross, np.einsum("ij,ij->i", u, v)))
-    return turn(np.roll(d, step, axis=0), d), turn(d, np.roll(d, -step, axis=0))
+    return _signed_turn(np.roll(d, step, axis=0), d), _signed_turn(d, np.roll(d, -step, axis=0))
+
+
+def _signed_turn(u: FloatArray, v: FloatArray) -> FloatArray:
+    """Signed angle (degrees, counter-clockwise positive) from each direction u to v."""
+    cross = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
+    return np.degrees(np.arctan2(cross, np.einsum("ij,ij->i", u, v)))
 
 
 def _points_along(a: FloatArray, b: FloatArray, tree: cKDTree, radius: float,
