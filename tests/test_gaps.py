@@ -58,3 +58,14 @@ def test_a_ring_left_open_fourteen_radii_short_over_its_own_points_closes():
     gap = np.linalg.norm(piece.points[0] - piece.points[-1])
     assert 14 * RADIUS < gap < 15 * RADIUS
     assert [c.closed for c in close_gaps([piece], pts, RADIUS)] == [True]
+
+
+def test_a_gap_that_cuts_the_outline_a_radius_deep_closes():
+    # the straight gap runs up to 1.05 radii from the arc it cuts across (the horse's tail)
+    pts = _circle()
+    piece = OrderedContour(pts[24:577:6], False, np.arange(600))
+    a, b = piece.points[0], piece.points[-1]
+    assert 16 * RADIUS < np.linalg.norm(a - b) < 17 * RADIUS
+    depth = 1 - np.linalg.norm((a + b) / 2)
+    assert RADIUS < depth < 1.1 * RADIUS
+    assert [c.closed for c in close_gaps([piece], pts, RADIUS)] == [True]
