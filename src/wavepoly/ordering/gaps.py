@@ -74,14 +74,27 @@ def close_gaps(contours: list[OrderedContour], points: FloatArray, radius: float
         if c.closed or not _filled_gap(c.points, tree, radius):
             continue
         ring = _closed_ring(c.points)
-        if ring is None or _crosses_others(ring, k, others):
+        if ring is None or meets_others(ring, (k,), others):
             continue
-        members = points[c.members]
-        before = polyline_distance(members, c.points, False).max(initial=0.0)
-        after = polyline_distance(members, ring, True).max(initial=0.0)
-        if after <= max(before, radius):
+        if keeps_members(ring, c, points, radius):
             out[k] = OrderedContour(ring, True, c.members)
     return out
+
+
+def keeps_members(ring: FloatArray, contour: OrderedContour, points: FloatArray,
+                  radius: float) -> bool:
+    """Does ``ring`` keep every member of ``contour`` as near as the contour did (or within
+    ``radius``)?"""
+    members = points[contour.members]
+    before = polyline_distance(members, contour.points, contour.closed).max(initial=0.0)
+    after = polyline_distance(members, ring, True).max(initial=0.0)
+    return bool(after <= max(before, radius))
+
+
+def meets_others(ring: FloatArray, own: tuple[int, ...], others: shapely.STRtree) -> bool:
+    """Does the ring meet a contour of ``others`` (their lines) other than its ``own``?"""
+    hit = others.query(shapely.LinearRing(ring), predicate="intersects")
+    return bool(np.any(~np.isin(hit, own)))
 
 
 def _filled_gap(xy: FloatArray, tree: cKDTree, radius: float) -> bool:
@@ -108,9 +121,3 @@ def _closed_ring(xy: FloatArray) -> FloatArray | None:
 def _line(c: OrderedContour) -> shapely.Geometry:
     xy = np.vstack([c.points, c.points[:1]]) if c.closed else c.points
     return shapely.LineString(xy)
-
-
-def _crosses_others(ring: FloatArray, k: int, others: shapely.STRtree) -> bool:
-    """Does the ring meet a contour other than the ``k``-th?"""
-    hit = others.query(shapely.LinearRing(ring), predicate="intersects")
-    return bool(np.any(hit != k))

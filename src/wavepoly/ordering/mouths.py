@@ -22,8 +22,9 @@ import numpy as np
 import shapely
 from scipy.spatial import cKDTree
 
-from ..geometry import curve_line, polyline_distance, polyline_length
+from ..geometry import curve_line, polyline_length
 from ..types import FloatArray, OrderedContour
+from .gaps import keeps_members, meets_others
 
 #: A cap turns by at least this (degrees) at both of its ends, the same way (a limb cut at its
 #: root: 121 and 60); ordered points half a radius to a radius apart turn by some 20 degrees
@@ -196,16 +197,8 @@ def _fits(ring: FloatArray, a: int, b: int, contours: list[OrderedContour],
           points: FloatArray, lines: shapely.STRtree, radius: float) -> bool:
     """Does the joined ring meet no other contour and keep every member of the two as near
     as its own ring did (or within a radius)?"""
-    hit = lines.query(shapely.LinearRing(ring), predicate="intersects")
-    if np.any((hit != a) & (hit != b)):
-        return False
-    for k in (a, b):
-        members = points[contours[k].members]
-        before = polyline_distance(members, contours[k].points, True).max(initial=0.0)
-        after = polyline_distance(members, ring, True).max(initial=0.0)
-        if after > max(before, radius):
-            return False
-    return True
+    return (not meets_others(ring, (a, b), lines)
+            and all(keeps_members(ring, contours[k], points, radius) for k in (a, b)))
 
 
 def _edge(xy: FloatArray, e: int) -> FloatArray:
