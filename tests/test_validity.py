@@ -255,6 +255,22 @@ def test_a_small_loop_of_a_few_points_is_a_contour():
     assert len(result.outliers) == 0
 
 
+def test_a_sliver_of_a_hole_two_tolerances_long_is_a_contour():
+    """Thirteen points round a sliver 1.9 tolerances long and a third as wide (what a slit
+    leaves of a silhouette's hole, row 0 seed 53 of the benchmark): the directions from its
+    centre leave a gap of about 125 degrees, and its points were outliers."""
+    eps = 0.0033
+    t = np.linspace(0, 2 * np.pi, 1900, endpoint=False)
+    ring = 0.3 * np.column_stack([np.cos(t), np.sin(t)])
+    s = np.linspace(0, 2 * np.pi, 13, endpoint=False) + 0.2
+    sliver = np.column_stack([0.001 * np.cos(s), 0.003 * np.sin(s)]) + [0.1, 0.0]
+    pts = np.vstack([ring, sliver])
+    result = wavepoly.fit(pts, eps)
+    _valid(pts, result)
+    assert sorted(c.closed for c in result.contours) == [True, True]
+    assert len(result.outliers) == 0
+
+
 def test_vase_silhouette_keeps_its_hole(shared_data):
     pts = wavepoly.read_points(shared_data / "curves2d" / "noisy_sets" / "vase.txt")
     result = wavepoly.fit(pts, 0.00102)
