@@ -4,7 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
+from wavepoly.parameters import sorted_by_parameter
 from wavepoly.reconstruction import storable_mask, storable_runs
 
 
@@ -129,3 +132,19 @@ def test_a_thinning_that_drops_hull_points_still_keeps_the_tolerance(monkeypatch
                         lambda p, g, a: np.arange(len(p)) % 50 == 0)  # not the hull
     result = rec.reconstruct_contour(pyramid, oc.points, members, 0.08)
     assert polyline_distance(members, result.vertices, True).max() <= 0.08 * (1 + 1e-9)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.tuples(st.integers(0, 40), st.integers(1, 60)), min_size=1, max_size=12),
+       st.booleans())
+def test_spread_ties_stay_sorted(runs, closed):
+    """Runs of equal parameters (duplicate points at a corner of a laser map) are spread by
+    the step and stay sorted and distinct, even where a run spreads past the next value
+    (the repair's edge search assumes sorted parameters; unsorted, it found no point in an
+    edge that held one beyond the tolerance and failed)."""
+    step = 1e-3
+    values = np.sort(np.array([0.5 + k * 0.7 * step for k, _ in runs]))
+    raw = np.repeat(values, [n for _, n in runs])[::-1].copy()
+    order, params = sorted_by_parameter(raw, step, closed)
+    assert (np.diff(params) > 0).all()
+    assert np.abs(params - raw[order]).max() <= step * len(raw)

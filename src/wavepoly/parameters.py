@@ -92,13 +92,20 @@ def _locate(points: FloatArray, line: FloatArray) -> tuple[IntArray, FloatArray]
 
 
 def untie(sorted_param: FloatArray, step: float) -> FloatArray:
-    """Sorted parameters with equal ones spread by ``step`` (in their order): with every
-    point's parameter its own, a point inserted as a vertex starts the edge that holds it, so
-    the repair ends."""
-    p = sorted_param
-    new_group = np.concatenate([[True], p[1:] != p[:-1]])
-    start = np.maximum.accumulate(np.where(new_group, np.arange(len(p)), 0))
-    return p + (np.arange(len(p)) - start) * step
+    """Sorted parameters with equal ones spread by ``step`` (in their order), still sorted:
+    with every point's parameter its own, a point inserted as a vertex starts the edge that
+    holds it, so the repair ends.
+
+    Each parameter becomes at least ``step`` above the one before: a run of k ties spreads
+    over (k - 1) ``step`` s and pushes on the parameters it reaches (many duplicate points
+    at a corner of a laser map: spread past the next parameter, the run had left the
+    parameters unsorted, and the repair's edge search found no point in an edge).
+
+    >>> untie(np.array([0.0, 0.0, 0.0, 1.5e-3, 1.0]), 1e-3)
+    array([0.   , 0.001, 0.002, 0.003, 1.   ])
+    """
+    shift = np.arange(len(sorted_param)) * step
+    return np.maximum.accumulate(sorted_param - shift) + shift
 
 
 def sorted_by_parameter(raw: FloatArray, step: float, closed: bool,
