@@ -15,7 +15,7 @@ from wavepoly.samples import glyph_outlines, sample_rings
 from wavepoly.types import Contour, FitResult
 from wavepoly.validity import check_contours, split_at_crossings_of
 
-from .conftest import distance_to_output
+from .conftest import distance_to_output, teeth
 from .truth import independent_problems
 
 
@@ -288,6 +288,29 @@ def test_a_tolerance_below_the_scatter_is_said_and_a_better_one_suggested():
     assert "try" in wavepoly.fit_summary(low)[-len(low.notes) - 1]
     _valid(pts, low)
     assert wavepoly.fit(pts, low.suggested_tolerance).suggested_tolerance is None
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_a_tolerance_just_above_twice_a_bell_of_noise_runs_through_the_middle(seed):
+    """A room's four walls scanned with Gaussian scatter 0.022 (a bell: the spread over a
+    neighbourhood is the points' own scatter), at a tolerance of 0.05, 2.3 sigma: some 2 %
+    of the points lie farther than the tolerance from the wall's middle. Reaching them broke
+    the room into 17-21 pieces with teeth; the walls now run through the middle, the points
+    beyond are listed and a tolerance is suggested."""
+    rng = np.random.default_rng(seed)
+    corners = np.array([[0, 0], [4, 0], [4, 3], [0, 3]], float)
+    walls = []
+    for a, b in zip(corners, np.roll(corners, -1, axis=0)):
+        n = int(4000 * np.linalg.norm(b - a))
+        normal = np.array([a[1] - b[1], b[0] - a[0]]) / np.linalg.norm(b - a)
+        walls.append(a + rng.uniform(0, 1, (n, 1)) * (b - a)
+                     + rng.normal(0, 0.022, (n, 1)) * normal)
+    pts = np.vstack(walls)
+    result = wavepoly.fit(pts, 0.05)
+    _valid(pts, result)
+    assert [c.closed for c in result.contours] == [True] and teeth(result) == 0
+    assert 0.06 <= result.suggested_tolerance <= 0.08
+    assert len(result.outliers) <= 0.04 * len(pts)
 
 
 def _ring_band(n, scatter, seed=4, radius=3.0):

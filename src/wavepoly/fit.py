@@ -21,7 +21,7 @@ from .geometry import curve_line, nest_contours, orient_by_depth, polyline_dista
 from .junctions import meet_at_junctions
 from .levels import decompose_contour
 from .ordering import SPACINGS_PER_RADIUS, order_points
-from .ordering.noise import NOISE_MARGIN, NOISE_NOTE
+from .ordering.noise import BELL_MARGIN, NOISE_MARGIN, NOISE_NOTE, below_the_bell
 from .reconstruction import reconstruct_contour
 from .stubs import STUB_LENGTH, redundant_stubs
 from .types import (
@@ -149,11 +149,13 @@ def _tolerance_notes(tolerance: float, ordering: Ordering, beyond: int
     # band with flat sides (fish.txt) measures wider, and the smaller figure, once tried,
     # would draw a new suggestion
     spread = max(ordering.noise, ordering.scatter)
-    suggested = float(f"{NOISE_MARGIN * spread:.2g}")
-    if tolerance < NOISE_NOTE * ordering.scatter:
+    suggested = _two_digits_up(NOISE_MARGIN * spread)
+    bell = below_the_bell(tolerance, ordering.noise, ordering.scatter)
+    if tolerance < NOISE_NOTE * ordering.scatter or bell:
+        factor, scale = (NOISE_NOTE, ordering.scatter) if not bell else (BELL_MARGIN, spread)
         return suggested, [
-            f"the tolerance {tolerance:.4g} is below {NOISE_NOTE:g} x the scatter about the "
-            f"curves ({ordering.scatter:.3g}): the curves run through the middle of the noise, "
+            f"the tolerance {tolerance:.4g} is below {factor:g} x the scatter about the "
+            f"curves ({scale:.3g}): the curves run through the middle of the noise, "
             f"and {beyond} noisy points farther than the tolerance from them are listed with "
             f"the outliers; a tolerance of {suggested:g} keeps nearly all of them"]
     if ordering.through_the_middle:  # a halo about a thin core
@@ -171,6 +173,19 @@ def _tolerance_notes(tolerance: float, ordering: Ordering, beyond: int
             f"({spacing:.3g}): the polygons pass through nearly every point; a tolerance of "
             f"{suggested:g} simplifies them"]
     return None, []
+
+
+def _two_digits_up(value: float) -> float:
+    """``value`` rounded up to two significant digits: a suggestion above the tolerance it
+    replaces, which is below ``value``.
+
+    >>> _two_digits_up(0.07531)
+    0.076
+    """
+    if value <= 0:
+        return 0.0
+    unit = 10.0 ** (np.floor(np.log10(value)) - 1)
+    return float(f"{np.ceil(value / unit - 1e-9) * unit:.2g}")
 
 
 def beyond_the_tolerance(points: FloatArray, ordering: Ordering, tolerance: float

@@ -55,6 +55,16 @@ NOISE_NOTE = 2.0
 #: The suggested tolerance, in spreads over a neighbourhood: 3 sigma holds 99.7 % of
 #: Gaussian scatter.
 NOISE_MARGIN = 3.0
+#: A spread over a neighbourhood at most this many times the points' own scatter is one bell of
+#: noise about the curve (the made-up laser maps of `benchmarks.laser`: 1.16), not a halo about
+#: a thin core nor a wall with a fainter one beside it, which the march follows as curves of
+#: their own (the Intel map: 1.67 at a tolerance of 0.075, Freiburg: 1.73 at 0.1). Below
+#: `BELL_MARGIN` x such a bell, more than 0.6 % of the points lie beyond the tolerance from
+#: the middle, and reaching them zigzagged the walls (24-27 teeth per made-up map at 0.05).
+BELL_SPREAD = 1.3
+#: ... below the suggested `NOISE_MARGIN`, so that the suggestion, its spread measured again
+#: over its own wider neighbourhoods (a ring's spread grows by 1-5 %), draws no new one.
+BELL_MARGIN = 2.75
 #: A spread over a neighbourhood at most this many times the points' own scatter is a halo
 #: about a thin core (the Intel map's walls, seen from many poses: 1.5), not the curve's own
 #: shape, which makes it wider (the crab's legs: 3.2).
@@ -92,14 +102,22 @@ def noise_adaptive_nodes(pts: FloatArray, radius: float, sparse: bool = False,
 def runs_through_the_middle(points: FloatArray, tolerance: float, noise: float,
                             scatter: float) -> bool:
     """Whether, at this tolerance, the curves run through the middle of the noise: the
-    tolerance is below `NOISE_NOTE` x the points' own scatter; or below that many times the
-    spread over a neighbourhood, where that spread is a halo (`HALO_SPREAD`) and the tolerance
-    it suggests holds it measured at its own radius."""
-    if tolerance < NOISE_NOTE * scatter:
+    tolerance is below `NOISE_NOTE` x the points' own scatter, or below `BELL_MARGIN` x the
+    spread of a bell of noise (`below_the_bell`); or below `NOISE_NOTE` x the spread over a
+    neighbourhood, where that spread is a halo (`HALO_SPREAD`) and the tolerance it suggests
+    holds it measured at its own radius."""
+    if tolerance < NOISE_NOTE * scatter or below_the_bell(tolerance, noise, scatter):
         return True
     suggested = NOISE_MARGIN * noise
     return bool(tolerance < NOISE_NOTE * noise and noise <= HALO_SPREAD * scatter
                 and suggested >= NOISE_NOTE * neighbourhood_spread(points, suggested))
+
+
+def below_the_bell(tolerance: float, noise: float, scatter: float) -> bool:
+    """Whether the points spread about their curves as one bell of noise (the spread over a
+    neighbourhood, ``noise``, within `BELL_SPREAD` x their own ``scatter``) and the tolerance
+    is below `BELL_MARGIN` x that spread."""
+    return 0 < noise <= BELL_SPREAD * scatter and tolerance < BELL_MARGIN * noise
 
 
 def neighbourhood_spread(pts: FloatArray, radius: float) -> float:
