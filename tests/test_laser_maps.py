@@ -1,0 +1,50 @@
+"""Made-up laser maps (`benchmarks.laser`), whose true walls are known: the promises hold on
+maps the ordering was not tuned on."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import shapely
+
+import wavepoly
+
+from .conftest import distance_to_output, teeth
+from .truth import independent_problems
+
+
+@pytest.fixture(scope="module")
+def floor_3():
+    from benchmarks.laser import laser_map
+
+    return laser_map(3)
+
+
+def _drawn(result):
+    return [shapely.LineString(np.vstack([c.vertices, c.vertices[:1]]) if c.closed
+                               else c.vertices) for c in result.contours]
+
+
+def test_a_made_up_map_at_four_times_its_scatter(floor_3):
+    """At 0.1 (its walls' scatter about 0.022): valid, outliers under 1 %, no teeth, and
+    what is drawn lies along the true surfaces (people standing by aside)."""
+    pts, walls = floor_3
+    result = wavepoly.fit(pts, 0.1)
+    assert independent_problems(result) == [] and result.validity.valid
+    inliers = np.setdiff1d(np.arange(len(pts)), result.outliers)
+    assert distance_to_output(pts[inliers], result).max() <= 0.1 * (1 + 1e-9)
+    assert len(result.outliers) <= 0.01 * len(pts) and teeth(result) == 0
+    lines = _drawn(result)
+    off = sum(line.difference(walls.buffer(0.2)).length for line in lines)
+    assert off <= 0.05 * sum(line.length for line in lines)
+    assert result.suggested_tolerance is None
+
+
+def test_a_made_up_map_at_twice_its_scatter_runs_through_the_middle(floor_3):
+    """At 0.05, some 2.2 x the scatter: the walls run through the middle of their bands (no
+    teeth), the points beyond the tolerance are listed, and a tolerance is suggested."""
+    pts, _ = floor_3
+    result = wavepoly.fit(pts, 0.05)
+    assert result.validity.valid and teeth(result) <= 1
+    assert 0.06 <= result.suggested_tolerance <= 0.08
+    assert len(result.outliers) <= 0.06 * len(pts)
