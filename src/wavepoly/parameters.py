@@ -105,7 +105,9 @@ def untie(sorted_param: FloatArray, step: float) -> FloatArray:
     array([0.   , 0.001, 0.002, 0.003, 1.   ])
     """
     shift = np.arange(len(sorted_param)) * step
-    return np.maximum.accumulate(sorted_param - shift) + shift
+    lowered = sorted_param - shift
+    floor = np.maximum.accumulate(lowered)
+    return np.where(floor > lowered, floor + shift, sorted_param)  # the others exactly as given
 
 
 def sorted_by_parameter(raw: FloatArray, step: float, closed: bool,
