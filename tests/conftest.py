@@ -29,12 +29,34 @@ def shared_data() -> Path:
     return SHARED
 
 
+def _edge_tree(result) -> shapely.STRtree | None:
+    """shapely's STRtree over every edge of the output contours (None: no contour)."""
+    edges = []
+    for c in result.contours:
+        v = np.vstack([c.vertices, c.vertices[:1]]) if c.closed else c.vertices
+        edges.append(np.stack([v[:-1], v[1:]], axis=1))
+    return shapely.STRtree(shapely.linestrings(np.concatenate(edges))) if edges else None
+
+
 def distance_to_output(points: np.ndarray, result) -> np.ndarray:
-    """Independent check: distance of each point to the output contours, with shapely."""
-    geoms = [shapely.linearrings(c.vertices) if c.closed else shapely.linestrings(c.vertices)
-             for c in result.contours]
-    union = shapely.union_all(geoms)
-    return shapely.distance(shapely.points(points), union)
+    """Independent check: distance of each point to the output contours, with shapely (an
+    STRtree over the edges, faster than one union on a laser map)."""
+    tree = _edge_tree(result)
+    if tree is None:
+        return np.full(len(points), np.inf)
+    _, dist = tree.query_nearest(shapely.points(points), return_distance=True,
+                                 all_matches=False)
+    return dist
+
+
+def within_output(points: np.ndarray, result, distance: float) -> np.ndarray:
+    """Independent check: which points lie within ``distance`` of the output contours
+    (shapely's ``dwithin`` over the edge tree; some 5 times faster than the distances)."""
+    tree = _edge_tree(result)
+    near = np.zeros(len(points), dtype=bool)
+    if tree is not None:
+        near[tree.query(shapely.points(points), predicate="dwithin", distance=distance)[0]] = True
+    return near
 
 
 
