@@ -373,21 +373,21 @@ def laser_sweep() -> str:
 def _askew_length(contours, walls, eps: float) -> float:
     """Drawn length within `OFF_WALLS` ε of the true ``walls`` that runs at more than `ASKEW`
     degrees to the nearest of them (measured every ε / 2 along each edge)."""
-    from wavepoly.geometry import nearest_of_segments
+    from wavepoly.geometry import nearest_of_segments, polyline_segments
 
     coords = [np.asarray(line.coords) for line in shapely.get_parts(walls)]
     wa = np.vstack([c[:-1] for c in coords])
     wb = np.vstack([c[1:] for c in coords])
-    total = 0.0
-    for c in contours:
-        v = np.vstack([c.vertices, c.vertices[:1]]) if c.closed else c.vertices
-        for a, b in zip(v[:-1], v[1:]):
-            length = float(np.linalg.norm(b - a))
-            n = max(1, int(np.ceil(2 * length / eps)))
-            at = a + (np.arange(n)[:, None] + 0.5) / n * (b - a)
-            seg, dist = nearest_of_segments(at, wa, wb)
-            d = (wb - wa)[seg]
-            cos = abs(d @ (b - a)) / np.maximum(np.linalg.norm(d, axis=1) * length, 1e-300)
-            total += length / n * np.sum((dist <= OFF_WALLS * eps)
-                                         & (cos < np.cos(np.radians(ASKEW))))
-    return total
+    a, b = (np.vstack(e) for e in zip(*(polyline_segments(c.vertices, c.closed)
+                                        for c in contours)))
+    length = np.linalg.norm(b - a, axis=1)
+    samples = np.maximum(1, np.ceil(2 * length / eps)).astype(int)
+    edge = np.repeat(np.arange(len(a)), samples)
+    within = np.arange(len(edge)) - np.repeat(np.cumsum(samples) - samples, samples)
+    at = a[edge] + ((within + 0.5) / samples[edge])[:, None] * (b - a)[edge]
+    seg, dist = nearest_of_segments(at, wa, wb)
+    d = (wb - wa)[seg]
+    cos = np.abs(np.einsum("ij,ij->i", d, (b - a)[edge])) / np.maximum(
+        np.linalg.norm(d, axis=1) * length[edge], 1e-300)
+    askew = (dist <= OFF_WALLS * eps) & (cos < np.cos(np.radians(ASKEW)))
+    return float(np.sum((length / samples)[edge] * askew))
