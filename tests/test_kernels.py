@@ -188,3 +188,22 @@ def test_the_site_grid_of_a_degenerate_set_is_bounded(sites):
         warnings.simplefilter("error")
         dist, _ = nearest_site(points, sites)
     np.testing.assert_allclose(dist, cKDTree(sites).query(points)[0], rtol=1e-12)
+
+
+@settings(max_examples=80, deadline=None)
+@given(st.integers(0, 10_000), st.integers(2, 60), st.floats(0.05, 0.9), st.integers(1, 3))
+def test_the_compiled_fewest_edge_path_matches_the_numpy_reference(seed, n, density,
+                                                                   min_edges):
+    """Random forward chords (ragged rows, as the cone test leaves them), every start."""
+    from wavepoly.simplify import _shortest_path_reference, shortest_path
+
+    rng = np.random.default_rng(seed)
+    feasible = [rng.random(rng.integers(0, n - a + 1)) < density for a in range(n)]
+    for start in range(0, n - 1, max(1, n // 7)):
+        try:
+            want = _shortest_path_reference(feasible, start, n - 1, min_edges)
+        except RuntimeError:
+            with pytest.raises(RuntimeError):
+                shortest_path(feasible, start, n - 1, min_edges)
+            continue
+        assert shortest_path(feasible, start, n - 1, min_edges).tolist() == want.tolist()

@@ -313,3 +313,61 @@ def edge_distances(points: np.ndarray, edge: np.ndarray, vertices: np.ndarray
         dist[p] = _segment_distance(points[p, 0], points[p, 1], vertices[e, 0], vertices[e, 1],
                                     vertices[f, 0], vertices[f, 1])
     return dist
+
+
+@njit(cache=True, nogil=True)
+def fewest_edges(flat: np.ndarray, offset: np.ndarray, start: int, end: int, min_edges: int
+                 ) -> np.ndarray:  # pragma: no cover - compiled
+    """Fewest-edge path from ``start`` to ``end`` over forward chords, with at least
+    ``min_edges`` edges; an empty array when there is none.
+
+    Chord (a, a + 1 + j) is feasible when ``flat[offset[a] + j]`` (j < offset[a + 1] -
+    offset[a]). The first ``min_edges`` edges are taken breadth first (each vertex keeps the
+    first vertex that reaches it), then one pass in vertex order relaxes every chord: the
+    chords run forward, so that order is topological.
+    """
+    n = end + 1
+    big = np.iinfo(np.int64).max // 4
+    layers = np.full((max(min_edges, 1), n), -1, dtype=np.int64)
+    reached = np.zeros(n, dtype=np.bool_)
+    reached[start] = True
+    for layer in range(min_edges):
+        nxt = np.zeros(n, dtype=np.bool_)
+        for a in range(n):
+            if not reached[a]:
+                continue
+            for j in range(min(offset[a + 1] - offset[a], end - a)):
+                b = a + 1 + j
+                if flat[offset[a] + j] and layers[layer, b] < 0:
+                    layers[layer, b] = a
+                    nxt[b] = True
+        reached = nxt
+    count = np.full(n, big, dtype=np.int64)
+    parent = np.full(n, -1, dtype=np.int64)
+    first = n
+    for a in range(n):
+        if reached[a]:
+            count[a] = min_edges
+            first = min(first, a)
+    for a in range(first, end):
+        if count[a] >= big:
+            continue
+        for j in range(min(offset[a + 1] - offset[a], end - a)):
+            b = a + 1 + j
+            if flat[offset[a] + j] and count[a] + 1 < count[b]:
+                count[b] = count[a] + 1
+                parent[b] = a
+    if count[end] >= big:
+        return np.empty(0, dtype=np.int64)
+    path = np.empty(count[end] + 1, dtype=np.int64)
+    at, i = end, count[end]
+    while parent[at] >= 0:
+        path[i] = at
+        at = parent[at]
+        i -= 1
+    for layer in range(min_edges - 1, -1, -1):
+        path[i] = at
+        at = layers[layer, at]
+        i -= 1
+    path[i] = at
+    return path

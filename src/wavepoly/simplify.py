@@ -35,7 +35,7 @@ import shapely
 from scipy.ndimage import maximum_filter1d
 
 from .geometry import hull_candidates
-from .kernels import edge_distances, sweep_cones
+from .kernels import edge_distances, fewest_edges, sweep_cones
 from .types import SLACK, FloatArray, IntArray
 from .validity import bad_edges
 
@@ -154,12 +154,13 @@ MAX_VALIDITY_ROUNDS = 200
 def _best_path(feasible: list[np.ndarray], k: int, closed: bool) -> IntArray:
     """The fewest-edge path over the feasible chords (closed: unrolled, from a start s to
     s + k)."""
+    chords = flat_chords(feasible)
     if not closed:
-        return shortest_path(feasible, 0, k - 1)
+        return shortest_path(feasible, 0, k - 1, chords=chords)
     best = None
     for start in _closed_starts(feasible, k):
         try:
-            path = shortest_path(feasible, start, start + k, min_edges=3)
+            path = shortest_path(feasible, start, start + k, min_edges=3, chords=chords)
         except RuntimeError:  # no polygon has this vertex; another start in the window does
             continue
         if best is None or len(path) < len(best):
@@ -397,12 +398,35 @@ def _rows_of(rows: IntArray, a: IntArray, b: IntArray, ok: np.ndarray) -> list[n
     return out
 
 
-def shortest_path(feasible: list[np.ndarray], start: int, end: int, min_edges: int = 1) -> IntArray:
+def shortest_path(feasible: list[np.ndarray], start: int, end: int, min_edges: int = 1,
+                  chords: tuple[np.ndarray, IntArray] | None = None) -> IntArray:
     """Fewest-edge path from ``start`` to ``end`` over the feasible chords (forward only).
 
     ``min_edges`` forbids shorter paths (a closed polygon needs 3 edges even when the whole
-    contour is within the tolerance of one point).
+    contour is within the tolerance of one point). ``chords``: ``feasible`` already laid out
+    flat (`flat_chords`), when many paths are searched over the same chords. The search is
+    the compiled `wavepoly.kernels.fewest_edges`.
     """
+    flat, offset = flat_chords(feasible) if chords is None else chords
+    path = fewest_edges(flat, offset, start, end, min_edges)
+    if not len(path):
+        raise RuntimeError("internal error: no feasible path through the polygon")
+    return path.astype(np.intp)
+
+
+def flat_chords(feasible: list[np.ndarray]) -> tuple[np.ndarray, IntArray]:
+    """The per-vertex chord arrays as one boolean array and each vertex's offset into it
+    (one more offset than vertices)."""
+    offset = np.zeros(len(feasible) + 1, dtype=np.int64)
+    np.cumsum([len(f) for f in feasible], out=offset[1:])
+    flat = np.concatenate(feasible) if feasible else np.zeros(0, dtype=bool)
+    return flat.astype(bool, copy=False), offset
+
+
+def _shortest_path_reference(feasible: list[np.ndarray], start: int, end: int,
+                             min_edges: int = 1) -> IntArray:
+    """`shortest_path` in NumPy, one vertex at a time: the reference of the compiled
+    `wavepoly.kernels.fewest_edges`, for the tests."""
     big = np.iinfo(np.int64).max // 4
     count = np.full(end + 1, big)
     parent = np.full(end + 1, -1)
