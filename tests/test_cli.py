@@ -225,12 +225,21 @@ def test_order_writes_its_contours_and_info_measures_a_cloud_in_3d(glyph_file, t
     assert "in 3D" in info.stdout and spacing > 0.05  # not the x-y projection's 0.0005
 
 
-def test_long_work_logs_plain_progress_lines_when_stderr_is_not_a_terminal(tmp_path):
+def test_long_work_logs_plain_progress_lines_when_stderr_is_not_a_terminal(tmp_path,
+                                                                            monkeypatch):
+    """Work past `LOG_AFTER` seconds logs a plain line per tenth of it; the delay is taken
+    out here (in-process), so that a small job shows the lines a long one would."""
+    from typer.testing import CliRunner
+
+    from wavepoly import console
+    from wavepoly.cli import app
+
+    monkeypatch.setattr(console, "LOG_AFTER", 0.0)
     rng = np.random.default_rng(0)
-    t, h = rng.uniform(0, 2 * np.pi, 100_000), rng.uniform(0, 30, 100_000)
-    np.save(tmp_path / "cloud.npy", np.column_stack([5 * np.cos(t), 5 * np.sin(t), h]))
-    out = run("slice", tmp_path / "cloud.npy", "-t", "0.02", "--layer", "0.3", "-o",
-              tmp_path / "m.cli")
-    assert out.returncode == 0, out.stderr
+    t, h = rng.uniform(0, 2 * np.pi, 20_000), rng.uniform(0, 30, 20_000)
+    np.save(tmp_path / "cloud.npy", np.column_stack([np.cos(t), np.sin(t), h]))
+    out = CliRunner().invoke(app, ["slice", str(tmp_path / "cloud.npy"), "-t", "0.02",
+                                   "--layer", "0.3", "-o", str(tmp_path / "m.cli")])
+    assert out.exit_code == 0, out.output
     lines = [ln for ln in out.stderr.splitlines() if ln.startswith("fitting layers: ")]
     assert 3 <= len(lines) <= 11 and lines[-1].endswith("/100")

@@ -171,12 +171,12 @@ def test_the_command_names_an_unreachable_scheduler_and_writes_nothing(tiles, tm
 def test_adaptive_layers_of_tiles_run_here_on_their_union(tiles, tmp_path):
     import json
 
-    out = _wavepoly("slice", tiles[0].parent, "-t", "0.05", "--adaptive", "-o",
+    out = _wavepoly("slice", tiles[0].parent, "-t", "0.1", "--adaptive", "-o",
                     tmp_path / "a.cli", "--report", tmp_path / "a.json")
     assert out.returncode == 0, out.stderr
     doc = json.loads((tmp_path / "a.json").read_text())
     assert doc["adaptive"] and doc["points"] == 60000 and doc["input"] == [str(p) for p in tiles]
-    assert doc["model_error"] <= 0.05 * (1 + 1e-9)
+    assert doc["model_error"] <= 0.1 * (1 + 1e-9)
 
 
 def test_a_float32_ply_stays_float32_and_slices_as_its_widened_cloud(tmp_path):
