@@ -207,3 +207,27 @@ def test_the_compiled_fewest_edge_path_matches_the_numpy_reference(seed, n, dens
                 shortest_path(feasible, start, n - 1, min_edges)
             continue
         assert shortest_path(feasible, start, n - 1, min_edges).tolist() == want.tolist()
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 10_000), st.floats(0.0, 0.3), st.floats(0.002, 0.05),
+       st.floats(0.05, 1.0))
+def test_the_compiled_two_means_matches_the_numpy_reference(seed, gap, noise, share):
+    """Two walls ``gap`` apart (one with ``share`` of the other's points), lines through
+    random points of them: the compiled sides are the NumPy ones, bit for bit."""
+    from wavepoly.ordering.neighbourhoods import cell_atoms
+    from wavepoly.ordering.walls import _sides, _sides_reference
+
+    rng = np.random.default_rng(seed)
+    n = 3000
+    x = rng.uniform(0, 2, n)
+    y = np.where(rng.random(n) < share / (1 + share), gap, 0.0) + rng.normal(0, noise, n)
+    pts = np.column_stack([x, y])
+    atoms = cell_atoms(pts, 0.1)
+    centre = pts[rng.choice(n, 50, replace=False)]
+    angle = rng.normal(0, 0.2, 50)
+    tangent = np.column_stack([np.cos(angle), np.sin(angle)])
+    got = _sides(centre, tangent, atoms, 0.15)
+    want = _sides_reference(centre, tangent, atoms, 0.15)
+    for g, w in zip(got, want):
+        np.testing.assert_array_equal(g, w)

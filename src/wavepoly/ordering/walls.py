@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
+from ..kernels import two_means_sides
 from ..types import FloatArray
 from .neighbourhoods import Atoms, Nodes, Offsets, perpendicular_offsets
 
@@ -97,12 +98,27 @@ def _sides(centre: FloatArray, tangent: FloatArray, atoms: Atoms, reach: float,
     offset and RMS spread of each side, and the share of the weight on the high side. The
     sides are split where two-means puts them (a light ghost wall beside a dense one would
     lose some of the dense wall's points to a split at the mean). Last, the share of the
-    weight in the middle half of the gap between the sides' means."""
+    weight in the middle half of the gap between the sides' means. (The rounds run compiled:
+    `wavepoly.kernels.two_means_sides`.)"""
+    o = perpendicular_offsets(centre, tangent, atoms, reach) if offsets is None else offsets
+    inner = _inner_scatter(o, tangent, atoms)
+    return two_means_sides(o.owner, o.offset, o.weight, inner, o.lines, SPLIT_ROUNDS)
+
+
+def _inner_scatter(o: Offsets, tangent: FloatArray, atoms: Atoms) -> FloatArray:
+    """Each atom's own scatter (summed over its points) across its line."""
+    sc = atoms.scatter[o.atom]
+    n = np.column_stack([-tangent[o.owner, 1], tangent[o.owner, 0]])
+    return n[:, 0] ** 2 * sc[:, 0] + 2 * n[:, 0] * n[:, 1] * sc[:, 1] + n[:, 1] ** 2 * sc[:, 2]
+
+
+def _sides_reference(centre: FloatArray, tangent: FloatArray, atoms: Atoms, reach: float,
+                     offsets: Offsets | None = None) -> tuple[FloatArray, ...]:
+    """`_sides` in NumPy, the reference of the compiled `wavepoly.kernels.two_means_sides`
+    for the tests."""
     o = perpendicular_offsets(centre, tangent, atoms, reach) if offsets is None else offsets
     owner, offset, w, k = o.owner, o.offset, o.weight, o.lines
-    sc = atoms.scatter[o.atom]  # each atom's own scatter, summed over its points
-    n = np.column_stack([-tangent[owner, 1], tangent[owner, 0]])
-    inner = n[:, 0] ** 2 * sc[:, 0] + 2 * n[:, 0] * n[:, 1] * sc[:, 1] + n[:, 1] ** 2 * sc[:, 2]
+    inner = _inner_scatter(o, tangent, atoms)
     total = np.maximum(np.bincount(owner, w, k), 1e-300)
     mean = np.bincount(owner, w * offset, k) / total
     threshold = mean
