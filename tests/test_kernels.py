@@ -231,3 +231,20 @@ def test_the_compiled_two_means_matches_the_numpy_reference(seed, gap, noise, sh
     want = _sides_reference(centre, tangent, atoms, 0.15)
     for g, w in zip(got, want):
         np.testing.assert_array_equal(g, w)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 10_000), st.integers(10, 4000), st.floats(0.01, 0.5),
+       st.booleans())
+def test_the_compiled_neighbourhood_sums_match_the_numpy_reference(seed, n, reach, dense):
+    """Centroids and covariances over random neighbourhoods of points or of cell atoms (with
+    their own scatter): the compiled sums are the NumPy ones, bit for bit."""
+    from wavepoly.ordering.neighbourhoods import _moments_reference, cell_atoms, moments
+
+    rng = np.random.default_rng(seed)
+    pts = rng.normal(size=(n, 2)) * [1.0, 0.1]
+    atoms = cell_atoms(pts, 0.1, min_per_cell=1.0 if dense else 1e9)
+    centres = rng.uniform(-1.5, 1.5, (60, 2))  # some far from every point: empty
+    for got, want in zip(moments(centres, atoms, reach), _moments_reference(centres, atoms,
+                                                                             reach)):
+        np.testing.assert_array_equal(got, want)

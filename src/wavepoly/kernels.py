@@ -422,3 +422,26 @@ def two_means_sides(owner: np.ndarray, offset: np.ndarray, weight: np.ndarray,
         if abs(offset[i] - split[g]) < 0.25 * (mean[1, g] - mean[0, g]):
             middle[g] += weight[i]
     return (mean[0], mean[1], spread[0], spread[1], side_weight[1] / total, middle / total)
+
+
+@njit(cache=True, nogil=True)
+def neighbourhood_sums(owner: np.ndarray, atom: np.ndarray, centres: np.ndarray,
+                       xy: np.ndarray, weight: np.ndarray, scatter: np.ndarray, k: int
+                       ) -> np.ndarray:  # pragma: no cover - compiled
+    """Weighted sums over each of ``k`` neighbourhoods of its atoms (the pairs ``owner[i]``,
+    ``atom[i]``), about its centre: weight, first moments (x, y) and second moments (xx, xy,
+    yy, each with the atoms' own scatter added). Returns a (k, 6) array, summed in the pairs'
+    order."""
+    out = np.zeros((k, 6))
+    for i in range(len(owner)):
+        o, a = owner[i], atom[i]
+        w = weight[a]
+        lx = xy[a, 0] - centres[o, 0]
+        ly = xy[a, 1] - centres[o, 1]
+        out[o, 0] += w
+        out[o, 1] += w * lx
+        out[o, 2] += w * ly
+        out[o, 3] += w * (lx * lx) + scatter[a, 0]
+        out[o, 4] += w * lx * ly + scatter[a, 1]
+        out[o, 5] += w * (ly * ly) + scatter[a, 2]
+    return out

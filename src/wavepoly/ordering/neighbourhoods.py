@@ -15,6 +15,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
+from ..kernels import neighbourhood_sums
 from ..types import FloatArray, IntArray
 from ..validate import column_bounds
 
@@ -96,25 +97,43 @@ def cell_atoms(pts: FloatArray, radius: float, min_per_cell: float = MIN_PER_CEL
 
 def moments(centres: FloatArray, atoms: Atoms, radius: float
              ) -> tuple[FloatArray, FloatArray]:
-    """Centroid and covariance (xx, xy, yy) of the points within ``radius`` of each centre."""
+    """Centroid and covariance (xx, xy, yy) of the points within ``radius`` of each centre
+    (the sums run compiled: `wavepoly.kernels.neighbourhood_sums`)."""
+    pairs = cKDTree(centres).sparse_distance_matrix(atoms.tree, radius, output_type="ndarray")
+    sums = neighbourhood_sums(pairs["i"], pairs["j"], centres, atoms.xy, atoms.weight,
+                              atoms.scatter, len(centres))
+    return _moments_from_sums(centres, sums)
+
+
+def _moments_from_sums(centres: FloatArray, sums: FloatArray) -> tuple[FloatArray, FloatArray]:
+    count = sums[:, 0].copy()
+    empty = count == 0
+    count[empty] = 1.0
+    mean = sums[:, 1:3] / count[:, None]
+    sxx = sums[:, 3] / count - mean[:, 0] ** 2
+    sxy = sums[:, 4] / count - mean[:, 0] * mean[:, 1]
+    syy = sums[:, 5] / count - mean[:, 1] ** 2
+    centroid = centres + mean
+    centroid[empty] = centres[empty]
+    return centroid, np.column_stack([sxx, sxy, syy])
+
+
+def _moments_reference(centres: FloatArray, atoms: Atoms, radius: float
+                       ) -> tuple[FloatArray, FloatArray]:
+    """`moments` with NumPy sums, the reference of the compiled kernel for the tests."""
     pairs = cKDTree(centres).sparse_distance_matrix(atoms.tree, radius, output_type="ndarray")
     owner, idx = pairs["i"], pairs["j"]
     k = len(centres)
     w = atoms.weight[idx]
-    count = np.bincount(owner, w, minlength=k)
-    empty = count == 0
-    count[empty] = 1.0
     local = atoms.xy[idx] - centres[owner]  # moments about the centre: no cancellation
-    mean = np.column_stack([np.bincount(owner, w * local[:, d], k) for d in range(2)])
-    mean /= count[:, None]
     scatter = atoms.scatter[idx]
-    sxx = np.bincount(owner, w * local[:, 0] ** 2 + scatter[:, 0], k) / count - mean[:, 0] ** 2
-    sxy = (np.bincount(owner, w * local[:, 0] * local[:, 1] + scatter[:, 1], k) / count
-           - mean[:, 0] * mean[:, 1])
-    syy = np.bincount(owner, w * local[:, 1] ** 2 + scatter[:, 2], k) / count - mean[:, 1] ** 2
-    centroid = centres + mean
-    centroid[empty] = centres[empty]
-    return centroid, np.column_stack([sxx, sxy, syy])
+    sums = np.column_stack([
+        np.bincount(owner, w, k), np.bincount(owner, w * local[:, 0], k),
+        np.bincount(owner, w * local[:, 1], k),
+        np.bincount(owner, w * local[:, 0] ** 2 + scatter[:, 0], k),
+        np.bincount(owner, w * local[:, 0] * local[:, 1] + scatter[:, 1], k),
+        np.bincount(owner, w * local[:, 1] ** 2 + scatter[:, 2], k)])
+    return _moments_from_sums(centres, sums)
 
 
 def principal_axes(cov: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
