@@ -18,6 +18,9 @@ References
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from functools import cache, partial
+
 import numpy as np
 import shapely
 from scipy.spatial import cKDTree
@@ -69,7 +72,7 @@ def join_through_mouths(contours: list[OrderedContour], points: FloatArray, radi
     -------
     The contours, joined rings replaced by the one ring they make.
     """
-    tree = cKDTree(points)
+    tree = cache(partial(cKDTree, points))  # built only once a ring has a cap
     out = list(contours)
     for _ in range(MAX_JOINS):
         join = _first_join(out, points, tree, radius)
@@ -82,9 +85,11 @@ def join_through_mouths(contours: list[OrderedContour], points: FloatArray, radi
     return out
 
 
-def _first_join(contours: list[OrderedContour], points: FloatArray, tree: cKDTree,
-                radius: float) -> tuple[int, int, FloatArray] | None:
-    """The first cap and pass of two rings (nearest first) that join, with the joined ring."""
+def _first_join(contours: list[OrderedContour], points: FloatArray,
+                tree: Callable[[], cKDTree], radius: float
+                ) -> tuple[int, int, FloatArray] | None:
+    """The first cap and pass of two rings (nearest first) that join, with the joined ring.
+    ``tree``: gives the points' tree."""
     rings = [k for k, c in enumerate(contours) if c.closed and len(c.points) >= 4]
     if len(rings) < 2:
         return None
@@ -93,7 +98,7 @@ def _first_join(contours: list[OrderedContour], points: FloatArray, tree: cKDTre
         return None
     length = sum(polyline_length(contours[k].points, True) for k in rings)
     density = sum(len(contours[k].members) for k in rings) / max(length, 1e-300)
-    passes = [(k, f) for k in rings for f in _bare_passes(contours[k].points, tree, radius,
+    passes = [(k, f) for k in rings for f in _bare_passes(contours[k].points, tree(), radius,
                                                           density)]
     if not passes:
         return None
