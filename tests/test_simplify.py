@@ -25,6 +25,8 @@ def test_shortest_path_honours_min_edges():
     path = shortest_path(feasible, 0, 4, min_edges=3)
     assert len(path) == 4 and path[0] == 0 and path[-1] == 4
     assert np.all(np.diff(path) > 0)
+    with pytest.raises(ValueError, match="over 5 vertices"):
+        shortest_path(feasible, 0, 5)  # past the last vertex: refused, not read out of bounds
 
 
 def _brute_force_fewest(vertices, vparams, points, params, closed, tol):

@@ -407,6 +407,8 @@ def shortest_path(feasible: list[np.ndarray], start: int, end: int, min_edges: i
     flat (`flat_chords`), when many paths are searched over the same chords. The search is
     the compiled `wavepoly.kernels.fewest_edges`.
     """
+    if not 0 <= start <= end < len(feasible):  # the compiled search checks no bounds
+        raise ValueError(f"path from {start} to {end} over {len(feasible)} vertices")
     flat, offset = flat_chords(feasible) if chords is None else chords
     path = fewest_edges(flat, offset, start, end, min_edges)
     if not len(path):
