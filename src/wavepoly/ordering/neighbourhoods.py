@@ -106,6 +106,8 @@ def moments(centres: FloatArray, atoms: Atoms, radius: float
 
 
 def _moments_from_sums(centres: FloatArray, sums: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Centroid and covariance from the (k, 6) sums about each centre (`moments`); an empty
+    neighbourhood keeps its centre."""
     count = sums[:, 0].copy()
     empty = count == 0
     count[empty] = 1.0
