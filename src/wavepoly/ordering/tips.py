@@ -7,9 +7,12 @@ a short open stroke or a little loop of its own. A group that lies beyond a shar
 closed contour, along the turn's bisector, is that contour's tip: the turn's vertex moves out
 to the group's farthest point, and the group's points become members of the contour.
 
-A stroke or loop must span less than `TIP_STROKE` radii: a larger one is a contour of its own
-(the issue's "a loop or a stroke of at least 4 tolerances is a contour"), and a T junction's
-stem meets a straight stretch, not a sharp turn.
+A loop must span less than `TIP_STROKE` radii: a larger one is a contour of its own (the
+issue's "a loop or a stroke of at least 4 tolerances is a contour"). An open stroke may span up
+to `TIP_OPEN` radii: a clean outline has no open piece of its own, and a longer spike's or
+slit's tip, its walls merged into one chain, is left as such a stroke. A T junction's stem
+meets a straight stretch, not a sharp turn. Outlines that the later passes close (`stems`,
+`gaps`, `mouths`) take the strokes left beyond their turns too.
 """
 
 from __future__ import annotations
@@ -37,8 +40,14 @@ TIP_GROUP = 3
 #: a tolerance from its contour, and two could meet nearer (a laser map's thick wall, whose
 #: tip reached over to the next wall, was then split at the crossing).
 TIP_CLEARANCE = 2.0
-#: Strokes and loops spanning this many radii are contours of their own, never a tip.
+#: Loops spanning this many radii are contours of their own, never a tip (a hoof beside a
+#: leg's turn; the sliver ring beside Keyboard0's doubled end wall stays a ring).
 TIP_STROKE = 4.0
+#: Open strokes spanning this many radii are contours of their own. A shorter one beyond a
+#: sharp turn is the rest of a spike or slit narrower than the radius, its two walls merged
+#: into one chain (7.2 and 8.0 radii on a bitmap silhouette's spike and a horse's tail slit);
+#: a ring takes one only where it then covers it within the gap (straight along the bisector).
+TIP_OPEN = 12.0
 
 
 def extend_tips(contours: list[OrderedContour], outliers: IntArray, pts: FloatArray,
@@ -57,7 +66,8 @@ def extend_tips(contours: list[OrderedContour], outliers: IntArray, pts: FloatAr
 
     Returns the contours (a taken stroke or loop removed) and the remaining outliers.
     """
-    small = [_extent(c.points) < TIP_STROKE * radius for c in contours]
+    small = [_extent(c.points) < (TIP_STROKE if c.closed else TIP_OPEN) * radius
+             for c in contours]
     # only outlines that are no group themselves take a tip: no point is passed on twice
     rings = [k for k, c in enumerate(contours) if c.closed and len(c.points) >= 4
              and not small[k]]
