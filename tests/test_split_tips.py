@@ -6,8 +6,12 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
+import wavepoly
 from wavepoly.ordering.split_tips import rejoin_split_tips
 from wavepoly.types import OrderedContour
+
+from .conftest import distance_to_output
+from .truth import independent_problems
 
 RADIUS = 0.05
 W = 0.8 * RADIUS  # half-width of the wide part, where the march followed each wall
@@ -38,6 +42,27 @@ def test_a_limb_tip_closed_apart_is_joined_to_its_outline():
     out, polygon = _joined(body, tip)
     assert polygon.covers(shapely.Point(1.59, 0.0)) and polygon.covers(shapely.Point(0.0, 0.0))
     assert len(out[0].members) == len(_ring(body, 0).members) + len(_ring(tip, 0).members)
+
+
+def _folded(ring: OrderedContour) -> OrderedContour:
+    """The ring with a fold of no width: its chain runs on along an edge, back, and on again
+    (the march's zigzag in a thin part, which leaves the polygon invalid)."""
+    xy = ring.points
+    k = int(np.argmax(np.linalg.norm(np.diff(xy, axis=0), axis=1)))
+    a, b = xy[k], xy[k + 1]
+    fold = np.array([a + 0.75 * (b - a), a + 0.5 * (b - a)])
+    return OrderedContour(np.vstack([xy[:k + 1], fold, xy[k + 1:]]), True, ring.members)
+
+
+def test_a_limb_tip_whose_chains_fold_is_joined_to_its_outline():
+    body = shapely.union(_box(-1, 1, -0.5, 0.5), _box(0.9, 1.3, -W, W))
+    tip = _box(1.33, 1.6, -T, T)
+    rings = [_folded(_ring(body, 0)), _folded(_ring(tip, 1000))]
+    assert not any(shapely.Polygon(c.points).is_valid for c in rings)
+    out = rejoin_split_tips(rings, RADIUS)
+    assert len(out) == 1 and out[0].closed
+    polygon = shapely.Polygon(out[0].points)
+    assert polygon.is_valid and polygon.covers(shapely.Point(1.59, 0.0))
 
 
 def test_a_slit_tip_closed_apart_is_cut_into_its_outline():
@@ -71,3 +96,19 @@ def test_a_thin_hole_running_in_from_near_a_wall_is_left_apart():
                             (0.1, -0.2), (0.1 - 0.6 * RADIUS, -0.2)])
     out = rejoin_split_tips([_ring(body, 0), _ring(hole, 1000)], RADIUS)
     assert len(out) == 2 and all(c.closed for c in out)
+
+
+def test_a_silhouette_limb_split_into_rings_comes_out_whole():
+    """Silhouette 35 traced from a 200-pixel bitmap, with noise: a limb 2 radii wide that the
+    march closed as three rings (body, middle, tip), the middle one folding on itself."""
+    from benchmarks.bench_validity import SILHOUETTE_SAMPLINGS
+    from benchmarks.silhouettes import bitmap, sample, silhouette
+
+    pixels, n, eps, noise = SILHOUETTE_SAMPLINGS[4]
+    rings = bitmap(silhouette(35), pixels)
+    pts = sample(rings, n, noise * eps, 1035)
+    result = wavepoly.fit(pts, eps)
+    assert [c.closed for c in result.contours] == [True] * len(rings)
+    assert independent_problems(result) == []
+    assert len(result.outliers) == 0
+    assert distance_to_output(pts, result).max() <= eps * (1 + 1e-9)

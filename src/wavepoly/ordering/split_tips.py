@@ -62,8 +62,18 @@ def rejoin_split_tips(contours: list[OrderedContour], radius: float) -> list[Ord
 
 def _thin(xy: FloatArray, radius: float) -> bool:
     """Whether a ring's mean width is at most `TIP_WIDTH` radii."""
+    ring = _polygon(xy)
+    return ring is not None and 2 * ring.area <= TIP_WIDTH * radius * ring.length
+
+
+def _polygon(xy: FloatArray) -> shapely.Polygon | None:
+    """The ring's polygon, without the folds of no width where its chain runs out and back
+    along one line (the march's zigzag in a thin part); None where it crosses itself."""
     ring = shapely.Polygon(xy)
-    return ring.is_valid and 2 * ring.area <= TIP_WIDTH * radius * ring.length
+    if ring.is_valid:
+        return ring
+    parts = [g for g in shapely.get_parts(shapely.make_valid(ring)) if g.area > 0]
+    return parts[0] if len(parts) == 1 and parts[0].geom_type == "Polygon" else None
 
 
 def _joined(outline: OrderedContour, tip: OrderedContour, radius: float
@@ -79,8 +89,8 @@ def _joined(outline: OrderedContour, tip: OrderedContour, radius: float
     far = b_xy[np.argmax(np.linalg.norm(b_xy - pb, axis=1))]
     if not runs_on_from_hairpin(back, ahead, np.array([a_xy[ia], far]), radius):
         return None
-    a_poly, b_poly = shapely.Polygon(a_xy), shapely.Polygon(b_xy)
-    if not a_poly.is_valid:  # the fit's selection may yet make it valid; no set operations
+    a_poly, b_poly = _polygon(a_xy), _polygon(b_xy)
+    if a_poly is None or b_poly is None:  # the fit's selection may yet make it valid
         return None
     reach = BRIDGE_REACH * radius
     ends = np.vstack([pa, pb, a_xy[np.linalg.norm(a_xy - pa, axis=1) <= reach],
