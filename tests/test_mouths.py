@@ -4,6 +4,7 @@ two shapes that only come close stay two rings."""
 from __future__ import annotations
 
 import numpy as np
+import pytest
 import shapely
 
 import wavepoly
@@ -27,12 +28,13 @@ def _walk(corners: list[tuple[float, float]], step: float) -> np.ndarray:
     return np.vstack(out)
 
 
-def _body_and_limb(root_open: bool):
+def _body_and_limb(root_open: bool, v_cap: bool = False):
     """A 10 x 4 body whose top wall opens, from x 4.6 to 5.4, into a limb 0.8 wide and 4 long
     (``root_open``), or runs on under a limb standing 0.3 above it, closed at its foot.
 
     The ordered rings are as the march leaves them at a root: the body's ring runs straight
-    across the root on one edge (4.5 to 5.5), the limb's ring is capped across it at y 4.3."""
+    across the root on one edge (4.5 to 5.5), the limb's ring is capped across it at y 4.3,
+    or (``v_cap``) at y 4.6 by two steep edges meeting in a V by the body's wall."""
     top_left = [(0, 0), (10, 0), (10, 4), (5.4, 4)]
     top_right = [(4.6, 4), (0, 4), (0, 0)]
     limb = [(5.4, 4.0 if root_open else 4.3), (5.4, 8), (4.6, 8), (4.6, 4.0 if root_open else 4.3)]
@@ -43,8 +45,9 @@ def _body_and_limb(root_open: bool):
     points = np.vstack([body_pts, limb_pts])
     body_ring = np.vstack([_walk([(0, 0), (10, 0), (10, 4), (5.5, 4)], STEP), [(5.5, 4)],
                            _walk([(4.5, 4), (0, 4), (0, 0)], STEP)])
-    limb_ring = np.vstack([_walk([(5.4, 4.3), (5.4, 8), (4.6, 8), (4.6, 4.3)], STEP),
-                           [(4.6, 4.3)]])
+    foot = 4.6 if v_cap else 4.3
+    limb_ring = np.vstack([_walk([(5.4, foot), (5.4, 8), (4.6, 8), (4.6, foot)], STEP),
+                           [(4.6, foot)], [(5.0, 4.1)] if v_cap else np.empty((0, 2))])
     body = OrderedContour(body_ring, True, np.arange(len(body_pts)))
     limb = OrderedContour(limb_ring, True, len(body_pts) + np.arange(len(limb_pts)))
     return points, [body, limb]
@@ -60,6 +63,16 @@ def test_a_limb_closed_across_its_root_joins_the_body():
     assert np.array_equal(np.sort(out[0].members), np.arange(len(points)))
 
 
+def test_a_limb_closed_in_a_v_across_its_root_joins_the_body():
+    # neither edge of the V faces the body's wall; the chord across both does
+    points, rings = _body_and_limb(root_open=True, v_cap=True)
+    out = join_through_mouths(rings, points, RADIUS)
+    assert len(out) == 1 and out[0].closed
+    polygon = shapely.Polygon(out[0].points)
+    assert polygon.is_valid and polygon.contains(shapely.Point(5.0, 6.0))
+    assert not np.any(np.all(out[0].points == [5.0, 4.1], axis=1))  # the V's tip is gone
+
+
 def test_a_shape_standing_clear_of_a_wall_stays_apart():
     # the body's wall runs on under the limb: points all along the edge the march drew there
     points, rings = _body_and_limb(root_open=False)
@@ -67,16 +80,18 @@ def test_a_shape_standing_clear_of_a_wall_stays_apart():
     assert len(out) == 2
 
 
-def test_a_silhouette_limb_with_a_narrow_root_is_one_outline():
+@pytest.mark.parametrize(("row", "seed"), [(2, 56), (1, 60)])
+def test_a_silhouette_limb_with_a_narrow_root_is_one_outline(row, seed):
     """Silhouette sweep row 2, seed 56 (1000 points, noise ε/4): a limb joins the body through
     a root about 2 tolerances wide, sampled by a few points; the march closed the limb across
-    its root and ran the body past it (two closed rings)."""
+    its root and ran the body past it (two closed rings). Row 1, seed 60 (exact, 1000 points):
+    the same, the limb's ring closed in a V whose tip sits by the body's wall."""
     from benchmarks.bench_validity import SILHOUETTE_SAMPLINGS
     from benchmarks.silhouettes import sample, silhouette
 
-    pixels, n, eps, noise = SILHOUETTE_SAMPLINGS[2]
+    pixels, n, eps, noise = SILHOUETTE_SAMPLINGS[row]
     assert pixels is None
-    pts = sample(silhouette(56), n, noise * eps, 1056)
+    pts = sample(silhouette(seed), n, noise * eps, 1000 + seed)
     result = wavepoly.fit(pts, eps)
     assert [c.closed for c in result.contours] == [True]
     assert len(result.outliers) == 0

@@ -3,12 +3,13 @@
 Where a limb meets the body through a root a few radii wide, or a pocket opens through a mouth
 as narrow, the march can close the limb (the pocket) on itself across its root and run the
 body's outline straight past it: two closed rings where the truth is one. The limb's ring ends
-in a *cap*, an edge across the root where it turns sharply the same way at both ends (its two
-walls end there); the body's ring *passes* the root on a straight edge that is *bare*, with no
-points along it, since no wall runs across a root. Replacing the cap and the pass by the two
-links between their ends (a 2-opt move between the rings) gives the one outline. Two rings of
-their own that come close (two blobs a tolerance apart) face each other along walls of points,
-and curve gently where they do, so they stay apart.
+in a *cap*, an edge across the root (or two meeting in a V by the body's wall) where it turns
+sharply the same way at both ends (its two walls end there); the body's ring *passes* the
+root on a straight edge that is *bare*, with no points along it, since no wall runs across a
+root. Replacing the cap and the pass by the two links between their ends (a 2-opt move
+between the rings) gives the one outline. Two rings of their own that come close (two blobs a
+tolerance apart) face each other along walls of points, and curve gently where they do, so
+they stay apart.
 
 References
 ----------
@@ -33,6 +34,8 @@ from .gaps import keeps_members, meets_others
 #: root: 121 and 60); ordered points half a radius to a radius apart turn by some 20 degrees
 #: each on a blob a few radii across.
 CAP_TURN = 45.0
+#: A cap spans at most this many edges: one across the root, or two meeting in a V.
+CAP_EDGES = 2
 #: A pass turns by at most this at either end, over one edge and over two.
 PASS_TURN = 30.0
 #: Cap and pass face each other: the angle between them is at most this (degrees).
@@ -93,7 +96,7 @@ def _first_join(contours: list[OrderedContour], points: FloatArray,
     rings = [k for k, c in enumerate(contours) if c.closed and len(c.points) >= 4]
     if len(rings) < 2:
         return None
-    caps = [(k, e) for k in rings for e in _caps(contours[k].points)]
+    caps = [(k, e) for k in rings for e in _caps(contours[k].points)]  # e: (first, edges)
     if not caps:
         return None
     length = sum(polyline_length(contours[k].points, True) for k in rings)
@@ -102,7 +105,7 @@ def _first_join(contours: list[OrderedContour], points: FloatArray,
                                                           density)]
     if not passes:
         return None
-    cap_lines = [shapely.LineString(_edge(contours[k].points, e)) for k, e in caps]
+    cap_lines = [shapely.LineString(_edge(contours[k].points, *e)) for k, e in caps]
     pass_lines = shapely.STRtree([shapely.LineString(_edge(contours[k].points, f))
                                   for k, f in passes])
     near_cap, near_pass = pass_lines.query(cap_lines, predicate="dwithin",
@@ -113,7 +116,7 @@ def _first_join(contours: list[OrderedContour], points: FloatArray,
     for _, i, j in pairs:
         (a, e), (b, f) = caps[i], passes[j]
         one, two = contours[a].points, contours[b].points
-        if not _facing(_edge(one, e), _edge(two, f)):
+        if not _facing(_edge(one, *e), _edge(two, f)):
             continue
         ring = _joined(one, e, two, f, radius)
         if ring is not None and _fits(ring, a, b, contours, points, lines, radius):
@@ -121,12 +124,25 @@ def _first_join(contours: list[OrderedContour], points: FloatArray,
     return None
 
 
-def _caps(xy: FloatArray) -> list[int]:
-    """Edges e (xy[e] to xy[e + 1]) where the ring turns by `CAP_TURN` or more the same way
-    at both ends."""
-    before, after = _turns(xy, 1)
-    cap = (np.abs(before) >= CAP_TURN) & (np.abs(after) >= CAP_TURN) & (before * after > 0)
-    return np.flatnonzero(cap).tolist()
+def _caps(xy: FloatArray) -> list[tuple[int, int]]:
+    """Caps (e, k): chords from xy[e] to xy[e + k] over `CAP_EDGES` edges or fewer, into
+    and out of which the ring turns by `CAP_TURN` or more the same way. A cap of two edges is
+    a root closed in a V (its tip by the other ring's wall)."""
+    caps: list[tuple[int, int]] = []
+    for k in range(1, CAP_EDGES + 1):
+        before, after = _chord_turns(xy, k)
+        cap = (np.abs(before) >= CAP_TURN) & (np.abs(after) >= CAP_TURN) & (before * after > 0)
+        caps += [(int(e), k) for e in np.flatnonzero(cap)]
+    return caps
+
+
+def _chord_turns(xy: FloatArray, k: int) -> tuple[FloatArray, FloatArray]:
+    """Signed turns (degrees) into each chord xy[e] to xy[e + k] from the edge before it,
+    and out of it to the edge after it."""
+    d = np.roll(xy, -1, axis=0) - xy
+    chord = np.roll(xy, -k, axis=0) - xy
+    return _signed_turn(np.roll(d, 1, axis=0), chord), _signed_turn(chord,
+                                                                    np.roll(d, -k, axis=0))
 
 
 def _bare_passes(xy: FloatArray, tree: cKDTree, radius: float, density: float) -> list[int]:
@@ -181,12 +197,13 @@ def _facing(cap: FloatArray, wall: FloatArray) -> bool:
     return bool(sine <= np.sin(np.radians(FACING)))
 
 
-def _joined(one: FloatArray, e: int, two: FloatArray, f: int, radius: float
+def _joined(one: FloatArray, e: tuple[int, int], two: FloatArray, f: int, radius: float
             ) -> FloatArray | None:
     """The ring through ``one`` without its edge e and ``two`` without its edge f, linked end
     to end by links at most `MOUTH_REACH` radii long (either way round ``two``) into a valid
     polygon, or None."""
-    p = np.roll(one, -(e + 1), axis=0)  # starts after the edge, ends before it
+    first, k = e
+    p = np.roll(one, -(first + k), axis=0)[:len(one) - k + 1]  # starts after the cap, ends before
     q = np.roll(two, -(f + 1), axis=0)
     reach = MOUTH_REACH * radius
     for path in (q, q[::-1]):
@@ -206,5 +223,5 @@ def _fits(ring: FloatArray, a: int, b: int, contours: list[OrderedContour],
             and all(keeps_members(ring, contours[k], points, radius) for k in (a, b)))
 
 
-def _edge(xy: FloatArray, e: int) -> FloatArray:
-    return np.vstack([xy[e], xy[(e + 1) % len(xy)]])
+def _edge(xy: FloatArray, e: int, k: int = 1) -> FloatArray:
+    return np.vstack([xy[e], xy[(e + k) % len(xy)]])
