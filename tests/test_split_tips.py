@@ -4,6 +4,7 @@ its outline (`wavepoly.ordering.split_tips`); a thin ring beside a smooth wall i
 from __future__ import annotations
 
 import numpy as np
+import pytest
 import shapely
 
 import wavepoly
@@ -73,6 +74,40 @@ def test_a_slit_tip_closed_apart_is_cut_into_its_outline():
     assert polygon.covers(shapely.Point(0.3, 0.0))
 
 
+def _keyhole(gap: float, slit: bool = True) -> list[OrderedContour]:
+    """A body with a slit in from its right wall to x 0.7 (or none) and a round hole, not
+    thin, ``gap`` to the left of where the slit ends."""
+    body = _box(-1, 1, -0.5, 0.5)
+    if slit:
+        body = shapely.difference(body, _box(0.7, 1.1, -W, W))
+    hole = shapely.Point(0.7 - gap - 0.15, 0.0).buffer(0.15, 16)
+    return rejoin_split_tips([_ring(body, 0), _ring(hole, 1000)], RADIUS)
+
+
+def test_a_slit_that_reaches_a_hole_makes_it_a_keyhole():
+    out = _keyhole(0.8 * RADIUS)
+    assert len(out) == 1 and out[0].closed
+    polygon = shapely.Polygon(out[0].points)
+    assert polygon.is_valid
+    assert not polygon.covers(shapely.Point(0.55, 0.0))  # the hole is cut out, through the slit
+    assert polygon.covers(shapely.Point(-0.5, 0.0))
+
+
+def test_a_hole_whose_own_slit_end_reaches_the_outline_makes_a_keyhole():
+    # the march drew the slit's inner part as the hole's spike, its outer part not at all
+    body = _box(-1, 1, -0.5, 0.5)
+    spike = shapely.Polygon([(-T, 0.2), (0.0, 0.5 - 0.8 * RADIUS), (T, 0.2)])
+    hole = shapely.union(shapely.Point(0.0, 0.0).buffer(0.25, 16), spike)
+    out = rejoin_split_tips([_ring(body, 0), _ring(hole, 1000)], RADIUS)
+    assert len(out) == 1 and shapely.Polygon(out[0].points).is_valid
+    assert not shapely.Polygon(out[0].points).covers(shapely.Point(0.0, 0.0))
+
+
+def test_a_hole_short_of_a_slit_or_by_a_smooth_wall_is_left_apart():
+    assert len(_keyhole(2 * RADIUS)) == 2  # the slit stops short of the hole
+    assert len(_keyhole(0.8 * RADIUS, slit=False)) == 2  # a thin wall, no slit through it
+
+
 def test_a_thin_ring_beside_a_smooth_wall_is_left_apart():
     body = _box(-1, 1, -0.5, 0.5)
     hole = _box(-0.3, 0.3, 0.5 - 0.8 * RADIUS - 2 * T, 0.5 - 0.8 * RADIUS)
@@ -98,15 +133,18 @@ def test_a_thin_hole_running_in_from_near_a_wall_is_left_apart():
     assert len(out) == 2 and all(c.closed for c in out)
 
 
-def test_a_silhouette_limb_split_into_rings_comes_out_whole():
+@pytest.mark.parametrize(("row", "seed"), [(4, 35), (3, 75), (0, 107)])
+def test_a_silhouette_split_into_rings_comes_out_whole(row, seed):
     """Silhouette 35 traced from a 200-pixel bitmap, with noise: a limb 2 radii wide that the
-    march closed as three rings (body, middle, tip), the middle one folding on itself."""
+    march closed as three rings (body, middle, tip), the middle one folding on itself.
+    Silhouettes 75 (a 300-pixel bitmap) and 107 (exact): a slit that reaches a hole, a
+    keyhole, which came out as an outline with a notch and a hole beside it."""
     from benchmarks.bench_validity import SILHOUETTE_SAMPLINGS
     from benchmarks.silhouettes import bitmap, sample, silhouette
 
-    pixels, n, eps, noise = SILHOUETTE_SAMPLINGS[4]
-    rings = bitmap(silhouette(35), pixels)
-    pts = sample(rings, n, noise * eps, 1035)
+    pixels, n, eps, noise = SILHOUETTE_SAMPLINGS[row]
+    rings = silhouette(seed) if pixels is None else bitmap(silhouette(seed), pixels)
+    pts = sample(rings, n, noise * eps, 1000 + seed)
     result = wavepoly.fit(pts, eps)
     assert [c.closed for c in result.contours] == [True] * len(rings)
     assert independent_problems(result) == []

@@ -7,6 +7,12 @@ ring. The outline and the tip are one: the thin ring lies within `TIP_GAP` radii
 hairpin and runs on the other way from it (`slits.runs_on_from_hairpin`). Joined across the gap
 by the hull of their facing vertices, the boundary of the union (a limb's tip, outside the
 outline) or of the difference (a slit's tip, inside it) is the one outline.
+
+A slit may also run into a hole (a keyhole): the march leaves the slit's end a radius or so
+from the hole, and the outline and the hole come out as two rings. A hole within
+`KEYHOLE_GAP` radii of the outline, where either ring turns back at a hairpin pointing at the
+other, is cut out of the outline the same way. A hole by a smooth wall (a thin wall of the
+shape) has no hairpin there, and stays a hole.
 """
 
 from __future__ import annotations
@@ -20,6 +26,11 @@ from .slits import runs_on_from_hairpin
 #: A tip ring lies within this many radii of its outline's hairpin: the march stops up to
 #: 2.3 radii short of a narrowing slit (as `piece_graph.T_REACH`).
 TIP_GAP = 3.0
+#: A ring that is no thin tip joins its outline only as a hole a slit reaches: within this
+#: many radii of the outline's hairpin (or the outline of its own), where the march leaves a
+#: slit's end by the hole (0.8 and 1.1 radii on the silhouettes' keyholes). A slit that stops
+#: farther from a hole is a slit of its own.
+KEYHOLE_GAP = 1.5
 #: A tip ring is thin: its mean width (twice its area over its perimeter) is at most this
 #: many radii, two walls the march followed as one chain, or a limb's tip as narrow.
 TIP_WIDTH = 2.0
@@ -45,13 +56,14 @@ def rejoin_split_tips(contours: list[OrderedContour], radius: float) -> list[Ord
     tree = shapely.STRtree(lines)
     for i in np.argsort([len(contours[k].points) for k in rings], kind="stable"):
         b = rings[i]
-        if out[b] is None or not _thin(out[b].points, radius):
+        if out[b] is None:
             continue
+        hole = not _thin(out[b].points, radius)  # a hole a slit may reach, else a tip
         near = [j for j in tree.query(lines[i], predicate="dwithin",
-                                      distance=TIP_GAP * radius)
+                                      distance=(KEYHOLE_GAP if hole else TIP_GAP) * radius)
                 if j != i and out[rings[j]] is not None]
         for j in sorted(near, key=lambda j: shapely.distance(lines[i], lines[j])):
-            joined = _joined(out[rings[j]], out[b], radius)
+            joined = _joined(out[rings[j]], out[b], radius, hole)
             if joined is not None:
                 out[rings[j]], out[b] = joined, None
                 lines[j] = shapely.LinearRing(joined.points)  # an outline grows by its tip
@@ -76,21 +88,24 @@ def _polygon(xy: FloatArray) -> shapely.Polygon | None:
     return parts[0] if len(parts) == 1 and parts[0].geom_type == "Polygon" else None
 
 
-def _joined(outline: OrderedContour, tip: OrderedContour, radius: float
+def _joined(outline: OrderedContour, tip: OrderedContour, radius: float, hole: bool = False
             ) -> OrderedContour | None:
     """The outline with the tip joined at its hairpin, or None where the tip does not run on
-    from a hairpin of the outline, or the join is no simple polygon."""
+    from a hairpin of the outline, or the join is no simple polygon. A ``hole`` (no thin
+    tip) joins only inside the outline, where the outline's hairpin (a slit's end) or its own
+    (the hole's end of the slit) points at the other across the gap."""
     a_xy, b_xy = outline.points, tip.points
     pa, pb = (np.asarray(p) for p in shapely.shortest_line(
         shapely.LinearRing(a_xy), shapely.LinearRing(b_xy)).coords)
-    ia = int(np.argmin(np.linalg.norm(a_xy - pa, axis=1)))
-    n = len(a_xy)
-    ahead, back = a_xy[(ia + np.arange(n)) % n], a_xy[(ia - np.arange(n)) % n]
     far = b_xy[np.argmax(np.linalg.norm(b_xy - pb, axis=1))]
-    if not runs_on_from_hairpin(back, ahead, np.array([a_xy[ia], far]), radius):
-        return None
     a_poly, b_poly = _polygon(a_xy), _polygon(b_xy)
     if a_poly is None or b_poly is None:  # the fit's selection may yet make it valid
+        return None
+    if hole:
+        if not a_poly.contains(b_poly) or not (_hairpin_at(a_xy, pa, pb, radius)
+                                               or _hairpin_at(b_xy, pb, pa, radius)):
+            return None
+    elif not _hairpin_at(a_xy, pa, far, radius):
         return None
     reach = BRIDGE_REACH * radius
     ends = np.vstack([pa, pb, a_xy[np.linalg.norm(a_xy - pa, axis=1) <= reach],
@@ -108,3 +123,12 @@ def _joined(outline: OrderedContour, tip: OrderedContour, radius: float
     xy = np.asarray(region.exterior.coords)[:-1]
     members = np.union1d(outline.members, tip.members)
     return OrderedContour(xy, True, members)
+
+
+def _hairpin_at(xy: FloatArray, at: FloatArray, towards: FloatArray, radius: float) -> bool:
+    """Whether the ring turns back at its vertex nearest ``at`` with the line on to
+    ``towards`` running between its arms (`slits.runs_on_from_hairpin`)."""
+    i = int(np.argmin(np.linalg.norm(xy - at, axis=1)))
+    n = len(xy)
+    ahead, back = xy[(i + np.arange(n)) % n], xy[(i - np.arange(n)) % n]
+    return runs_on_from_hairpin(back, ahead, np.array([xy[i], towards]), radius)
