@@ -74,14 +74,32 @@ def test_a_slit_tip_closed_apart_is_cut_into_its_outline():
     assert polygon.covers(shapely.Point(0.3, 0.0))
 
 
-def _keyhole(gap: float, slit: bool = True) -> list[OrderedContour]:
+def _with_points(body: shapely.Polygon, hole: shapely.Polygon, walls: np.ndarray
+                 ) -> tuple[list[OrderedContour], np.ndarray]:
+    """The two rings as the march leaves them, and the input points: each ring's vertices,
+    and ``walls``, points of the body's walls that no vertex stands on."""
+    rings = [_ring(body, 0), _ring(hole, 1000)]
+    points = np.zeros((1000 + len(rings[1].points) + len(walls), 2))
+    points[:len(rings[0].points)] = rings[0].points
+    points[1000:1000 + len(rings[1].points)] = rings[1].points
+    extra = np.arange(1000 + len(rings[1].points), len(points))
+    points[extra] = walls
+    rings[0] = OrderedContour(rings[0].points, True, np.concatenate([rings[0].members, extra]))
+    return rings, points
+
+
+def _keyhole(gap: float, slit: bool = True, walls: bool = True) -> list[OrderedContour]:
     """A body with a slit in from its right wall to x 0.7 (or none) and a round hole, not
-    thin, ``gap`` to the left of where the slit ends."""
+    thin, ``gap`` to the left of where the slit ends; the slit's walls run on to the hole
+    (``walls``), its points across the gap, where the march drew no chain."""
     body = _box(-1, 1, -0.5, 0.5)
     if slit:
         body = shapely.difference(body, _box(0.7, 1.1, -W, W))
     hole = shapely.Point(0.7 - gap - 0.15, 0.0).buffer(0.15, 16)
-    return rejoin_split_tips([_ring(body, 0), _ring(hole, 1000)], RADIUS)
+    x = np.arange(0.7 - gap, 0.7, RADIUS / 3)
+    across = np.vstack([np.column_stack([x, np.full_like(x, side * W)]) for side in (-1, 1)])
+    rings, points = _with_points(body, hole, across if walls else np.empty((0, 2)))
+    return rejoin_split_tips(rings, RADIUS, points)
 
 
 def test_a_slit_that_reaches_a_hole_makes_it_a_keyhole():
@@ -98,7 +116,10 @@ def test_a_hole_whose_own_slit_end_reaches_the_outline_makes_a_keyhole():
     body = _box(-1, 1, -0.5, 0.5)
     spike = shapely.Polygon([(-T, 0.2), (0.0, 0.5 - 0.8 * RADIUS), (T, 0.2)])
     hole = shapely.union(shapely.Point(0.0, 0.0).buffer(0.25, 16), spike)
-    out = rejoin_split_tips([_ring(body, 0), _ring(hole, 1000)], RADIUS)
+    y = np.arange(0.5 - 0.8 * RADIUS, 0.5, RADIUS / 3)
+    walls = np.vstack([np.column_stack([np.full_like(y, side * T), y]) for side in (-1, 1)])
+    rings, points = _with_points(body, hole, walls)
+    out = rejoin_split_tips(rings, RADIUS, points)
     assert len(out) == 1 and shapely.Polygon(out[0].points).is_valid
     assert not shapely.Polygon(out[0].points).covers(shapely.Point(0.0, 0.0))
 
@@ -106,6 +127,11 @@ def test_a_hole_whose_own_slit_end_reaches_the_outline_makes_a_keyhole():
 def test_a_hole_short_of_a_slit_or_by_a_smooth_wall_is_left_apart():
     assert len(_keyhole(2 * RADIUS)) == 2  # the slit stops short of the hole
     assert len(_keyhole(0.8 * RADIUS, slit=False)) == 2  # a thin wall, no slit through it
+    # a hairpin facing the hole across solid wall (a glyph's neck by its counter)
+    assert len(_keyhole(0.8 * RADIUS, walls=False)) == 2
+    assert len(rejoin_split_tips(_with_points(_box(-1, 1, -0.5, 0.5).difference(
+        _box(0.7, 1.1, -W, W)), shapely.Point(0.51, 0.0).buffer(0.15, 16),
+        np.empty((0, 2)))[0], RADIUS)) == 2  # no points: no keyhole
 
 
 def test_a_thin_ring_beside_a_smooth_wall_is_left_apart():

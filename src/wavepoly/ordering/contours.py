@@ -156,7 +156,7 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
     # on a noisy scan (a laser map) a room's wall and a short wall meeting it are lines
     if stems and clean:
         contours = close_gaps(close_outlines(contours, pts, radius), pts, radius)
-        contours = join_through_mouths(rejoin_split_tips(contours, radius), pts, radius)
+        contours = join_through_mouths(rejoin_split_tips(contours, radius, pts), pts, radius)
         if any(not c.closed for c in contours):  # the outlines closed since take their tips
             contours, outliers = extend_tips(contours, outliers, pts, radius, outlier_gap)
     return contours, outliers

@@ -11,8 +11,10 @@ outline) or of the difference (a slit's tip, inside it) is the one outline.
 A slit may also run into a hole (a keyhole): the march leaves the slit's end a radius or so
 from the hole, and the outline and the hole come out as two rings. A hole within
 `KEYHOLE_GAP` radii of the outline, where either ring turns back at a hairpin pointing at the
-other, is cut out of the outline the same way. A hole by a smooth wall (a thin wall of the
-shape) has no hairpin there, and stays a hole.
+other and the slit's walls run on across the gap (its points lie there), is cut out of the
+outline the same way. A hole by a smooth wall (a thin wall of the shape) has no hairpin there,
+and one facing a notch across solid wall (a glyph's counter by its neck) no points between:
+both stay holes.
 """
 
 from __future__ import annotations
@@ -31,6 +33,10 @@ TIP_GAP = 3.0
 #: slit's end by the hole (0.8 and 1.1 radii on the silhouettes' keyholes). A slit that stops
 #: farther from a hole is a slit of its own.
 KEYHOLE_GAP = 1.5
+#: ... and the slit's walls run on across the gap: at least this many points lie across its
+#: middle half (one per wall; the keyholes held 2-5, and a glyph's counter facing the notch
+#: of its neck across 1.4 radii of solid stroke, 'g' at a tolerance of 0.3, none).
+KEYHOLE_WALLS = 2
 #: A tip ring is thin: its mean width (twice its area over its perimeter) is at most this
 #: many radii, two walls the march followed as one chain, or a limb's tip as narrow.
 TIP_WIDTH = 2.0
@@ -40,13 +46,18 @@ BRIDGE_REACH = 1.0
 BRIDGE_PAD = 0.05
 
 
-def rejoin_split_tips(contours: list[OrderedContour], radius: float) -> list[OrderedContour]:
-    """The contours, each thin closed ring that is the tip of a closed outline joined to it.
+def rejoin_split_tips(contours: list[OrderedContour], radius: float,
+                      points: FloatArray | None = None) -> list[OrderedContour]:
+    """The contours, each thin closed ring that is the tip of a closed outline joined to it,
+    and each hole that a slit reaches cut into it as a keyhole.
 
     Parameters
     ----------
     contours : the ordered contours; only the closed ones are read.
     radius : the neighbourhood radius of the ordering.
+    points : the input points, which the contours' members index: the walls of a slit that
+        reaches a hole run on across the gap between them (`KEYHOLE_WALLS`). Without them no
+        hole is joined.
     """
     rings = [k for k, c in enumerate(contours) if c.closed]
     if len(rings) < 2:
@@ -59,11 +70,13 @@ def rejoin_split_tips(contours: list[OrderedContour], radius: float) -> list[Ord
         if out[b] is None:
             continue
         hole = not _thin(out[b].points, radius)  # a hole a slit may reach, else a tip
+        if hole and points is None:
+            continue
         near = [j for j in tree.query(lines[i], predicate="dwithin",
                                       distance=(KEYHOLE_GAP if hole else TIP_GAP) * radius)
                 if j != i and out[rings[j]] is not None]
         for j in sorted(near, key=lambda j: shapely.distance(lines[i], lines[j])):
-            joined = _joined(out[rings[j]], out[b], radius, hole)
+            joined = _joined(out[rings[j]], out[b], radius, points if hole else None)
             if joined is not None:
                 out[rings[j]], out[b] = joined, None
                 lines[j] = shapely.LinearRing(joined.points)  # an outline grows by its tip
@@ -88,12 +101,13 @@ def _polygon(xy: FloatArray) -> shapely.Polygon | None:
     return parts[0] if len(parts) == 1 and parts[0].geom_type == "Polygon" else None
 
 
-def _joined(outline: OrderedContour, tip: OrderedContour, radius: float, hole: bool = False
-            ) -> OrderedContour | None:
+def _joined(outline: OrderedContour, tip: OrderedContour, radius: float,
+            hole_points: FloatArray | None = None) -> OrderedContour | None:
     """The outline with the tip joined at its hairpin, or None where the tip does not run on
-    from a hairpin of the outline, or the join is no simple polygon. A ``hole`` (no thin
-    tip) joins only inside the outline, where the outline's hairpin (a slit's end) or its own
-    (the hole's end of the slit) points at the other across the gap."""
+    from a hairpin of the outline, or the join is no simple polygon. A hole (no thin tip:
+    ``hole_points`` given, the input points) joins only inside the outline, where the
+    outline's hairpin (a slit's end) or its own (the hole's end of the slit) points at the
+    other across the gap, and the slit's walls run on across it (`_walls_across`)."""
     a_xy, b_xy = outline.points, tip.points
     pa, pb = (np.asarray(p) for p in shapely.shortest_line(
         shapely.LinearRing(a_xy), shapely.LinearRing(b_xy)).coords)
@@ -101,9 +115,11 @@ def _joined(outline: OrderedContour, tip: OrderedContour, radius: float, hole: b
     a_poly, b_poly = _polygon(a_xy), _polygon(b_xy)
     if a_poly is None or b_poly is None:  # the fit's selection may yet make it valid
         return None
-    if hole:
-        if not a_poly.contains(b_poly) or not (_hairpin_at(a_xy, pa, pb, radius)
-                                               or _hairpin_at(b_xy, pb, pa, radius)):
+    if hole_points is not None:
+        members = hole_points[np.union1d(outline.members, tip.members)]
+        if (not a_poly.contains(b_poly)
+                or not (_hairpin_at(a_xy, pa, pb, radius) or _hairpin_at(b_xy, pb, pa, radius))
+                or _walls_across(members, pa, pb, radius) < KEYHOLE_WALLS):
             return None
     elif not _hairpin_at(a_xy, pa, far, radius):
         return None
@@ -123,6 +139,19 @@ def _joined(outline: OrderedContour, tip: OrderedContour, radius: float, hole: b
     xy = np.asarray(region.exterior.coords)[:-1]
     members = np.union1d(outline.members, tip.members)
     return OrderedContour(xy, True, members)
+
+
+def _walls_across(points: FloatArray, a: FloatArray, b: FloatArray, radius: float) -> int:
+    """How many points lie across the middle half of the gap from ``a`` to ``b``, within a
+    radius of the line through them."""
+    gap = b - a
+    length = float(np.linalg.norm(gap))
+    if length == 0:
+        return 0
+    rel = points - a
+    along = rel @ gap / length**2
+    across = np.abs(rel[:, 0] * gap[1] - rel[:, 1] * gap[0]) / length
+    return int(((along > 0.25) & (along < 0.75) & (across <= radius)).sum())
 
 
 def _hairpin_at(xy: FloatArray, at: FloatArray, towards: FloatArray, radius: float) -> bool:
