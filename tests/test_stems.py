@@ -9,6 +9,7 @@ import shapely
 from shapely import affinity
 
 import wavepoly
+from wavepoly.geometry import polyline_length
 from wavepoly.ordering.stems import close_outlines
 from wavepoly.samples import sample_rings
 from wavepoly.types import OrderedContour
@@ -346,6 +347,26 @@ def test_a_stem_that_zigzags_between_its_walls_is_walked_along_its_middle():
     assert shapely.distance(polygon.exterior, shapely.Point(0.5, 0.0)) < radius
 
 
+def test_a_stem_that_zigzags_is_measured_along_its_middle():
+    # walls 1.2 radii apart, each sampled as the ring is (95 points per unit length), and a
+    # stem zigzagging between them 2.5 x as long as the slit: counted along the zigzag, the
+    # stem held 0.8 x the ring's points per length, a stroke; along its middle, 2 x
+    radius = 0.05
+    ring, pieces = _ring_with_slit(radius)
+    ring = ring[:600]
+    x = np.linspace(0.5, 1.0, 48)
+    walls = np.vstack([np.column_stack([x, np.full(48, s * 0.6 * radius)]) for s in (-1, 1)])
+    pts = np.vstack([ring, walls])
+    k = np.arange(21)
+    zigzag = np.column_stack([np.linspace(1.0, 0.5, 21), 0.6 * radius * (-1.0) ** k])
+    zigzag[0], zigzag[-1] = [1.0, 0.0], [0.5, 0.0]
+    assert polyline_length(zigzag, False) > 2.4 * 0.5
+    out = close_outlines([*pieces, OrderedContour(zigzag, False, np.arange(600, len(pts)))],
+                         pts, radius)
+    polygon = _one_simple_ring(out)
+    assert shapely.distance(polygon.exterior, shapely.Point(0.5, 0.0)) < radius
+
+
 def test_a_lone_piece_that_zigzags_between_two_walls_is_walked_along_its_middle():
     # a thin hole 1.2 radii wide, whose walls the march zigzagged between as one chain,
     # stepping back a radius now and then (the zigzag half as long again as the hole: its
@@ -411,11 +432,13 @@ def test_a_stem_whose_points_spread_as_two_walls_needs_fewer_points():
         _closes_down_the_slit(ring, pieces, points, closes, radius)
 
 
-@pytest.mark.parametrize("seed", [40, 55])
+@pytest.mark.parametrize("seed", [40, 55, 60])
 def test_bitmap_slits_whose_walls_spread_about_their_stem_close_the_outline(seed):
     """Silhouettes traced from a 200-pixel bitmap with noise ε / 4: the slits' stems hold 1.36
     and 1.23 x the ring's points per length (under `STEM_DENSITY`) and spread 1.30 and 1.73 x
-    as far; each outline was closed without its slit, which stayed an open stroke."""
+    as far; each outline was closed without its slit, which stayed an open stroke. Seed 60:
+    a limb 1.5 ε wide whose stem zigzags, 2.6 x as long as the limb (0.8 x the ring's points
+    per length along the zigzag, 1.9 x along its middle)."""
     from benchmarks.silhouettes import bitmap, sample, silhouette
 
     rings = bitmap(silhouette(seed), 200)

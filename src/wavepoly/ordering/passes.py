@@ -17,6 +17,10 @@ from ..types import FloatArray
 MIN_HALF_WIDTH = 0.05
 #: ... and at most this: the walls were merged because they lie within a radius.
 MAX_HALF_WIDTH = 0.5
+#: A stem whose path zigzags between walls 1-2 radii apart is read again along its path
+#: averaged over this many nodes each side (walked out and back without crossing itself, and
+#: measured along its length, not the zigzag's).
+SMOOTH_NODES = 2
 
 
 def out_and_back(stem: FloatArray, side: float, members: cKDTree, radius: float
@@ -42,3 +46,15 @@ def half_widths(stem: FloatArray, normal: FloatArray, members: cKDTree, radius: 
             off = np.abs((members.data[near] - stem[i]) @ normal[i])
             half[i] = np.median(off)
     return np.clip(half, MIN_HALF_WIDTH * radius, MAX_HALF_WIDTH * radius)
+
+
+def smoothed(stem: FloatArray) -> FloatArray:
+    """A stem's path averaged over `SMOOTH_NODES` nodes each side (its root and tip stay)."""
+    if len(stem) < 3:
+        return stem
+    k = SMOOTH_NODES
+    padded = np.vstack([np.repeat(stem[:1], k, axis=0), stem, np.repeat(stem[-1:], k, axis=0)])
+    kernel = np.ones(2 * k + 1) / (2 * k + 1)
+    out = np.column_stack([np.convolve(padded[:, d], kernel, mode="valid") for d in range(2)])
+    out[0], out[-1] = stem[0], stem[-1]
+    return out

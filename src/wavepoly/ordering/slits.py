@@ -13,8 +13,9 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
-from ..geometry import nearest_of_segments
+from ..geometry import nearest_of_segments, polyline_length
 from ..types import FloatArray, IntArray
+from .passes import smoothed
 
 #: Stems hold at least this many times the points per length of their cycle: a uniform
 #: sampling puts twice as many on two merged walls, and as many on one stroke.
@@ -43,6 +44,10 @@ HAIRPIN_STEM = 50.0
 #: Stems are measured over the denser half of their stretches this many radii long
 #: (`_denser_half`): a dozen points or more on one wall sampled at 3 per radius.
 STEM_WINDOW = 4.0
+#: A stem whose path is this many times as long as its averaged path zigzags between its
+#: walls, and is measured along the averaged one (a limb 1.5 tolerances wide on a noisy bitmap:
+#: 2.5 x).
+ZIGZAG = 1.5
 #: A ring's points are counted in windows of this many radii (some 20 points each on a
 #: uniform sampling of 3 spacings per radius, so that chance varies a count by a fifth)...
 DENSITY_WINDOW = 8.0
@@ -61,7 +66,8 @@ def stems_are_slits(paths: dict[int, list[FloatArray]], walk: list[tuple[int, Fl
     a line drawing's strokes hold 1.0 together, 1.2 over their denser half when sampled at 3
     points per radius), or `SLIT_DENSITY` x where each runs on from a hairpin of the cycle
     (`_at_hairpins`) or where their points spread `SLIT_SPREAD` x as far about them as the
-    ring's about it (`_spread_ratio`).
+    ring's about it (`_spread_ratio`). A stem that zigzags between its walls, twice as long
+    as they are, is measured along its averaged path (`_middle`).
 
     Parameters
     ----------
@@ -70,7 +76,7 @@ def stems_are_slits(paths: dict[int, list[FloatArray]], walk: list[tuple[int, Fl
     members : the points of the cycle and its stems.
     radius : the neighbourhood radius of the ordering.
     """
-    lines = [xy for _, xy in walk] + [p for ps in paths.values() for p in ps]
+    lines = [xy for _, xy in walk] + [_middle(p) for ps in paths.values() for p in ps]
     label = np.concatenate([np.full(len(xy) - 1, k) for k, xy in enumerate(lines)])
     a = np.vstack([xy[:-1] for xy in lines])
     b = np.vstack([xy[1:] for xy in lines])
@@ -87,6 +93,14 @@ def stems_are_slits(paths: dict[int, list[FloatArray]], walk: list[tuple[int, Fl
     stem_density = _denser_half(count[~ring], seg_length[~ring], label[~ring], window)
     return (_even(seg[seg < ring.sum()], seg_length[ring], radius)
             and bool(stem_density >= least * ring_density))
+
+
+def _middle(stem: FloatArray) -> FloatArray:
+    """A stem's averaged path (`passes.smoothed`) where it zigzags, `ZIGZAG` x as long as
+    that path, else the stem itself."""
+    middle = smoothed(stem)
+    return middle if polyline_length(stem, False) >= ZIGZAG * polyline_length(middle, False) \
+        else stem
 
 
 def _spread_ratio(dist: FloatArray, on_ring: np.ndarray, radius: float) -> float:

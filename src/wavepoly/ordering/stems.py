@@ -27,14 +27,11 @@ from scipy.spatial import cKDTree
 from ..geometry import polyline_distance, polyline_length
 from ..types import FloatArray, OrderedContour
 from .faces import CHORD_TIP, COVER_REACH, outline_of_faces
-from .passes import out_and_back
+from .passes import out_and_back, smoothed
 from .piece_graph import Edge, bridges, components, degrees, outer_edges, piece_graph
 from .slits import STEM_DENSITY, stems_are_slits
 from .untangle import crossing_edges, untangle
 
-#: A stem walked out and back that crosses itself (its path zigzags between walls 1-2 radii
-#: apart) is walked again along its path averaged over this many nodes each side.
-SMOOTH_NODES = 2
 #: Where a stem leaves the cycle at a shallow angle, its first pass may cross the edge the walk
 #: arrived by, a few times on each side: up to this many crossings are untangled (2-opt); a walk
 #: with more is left to the fit as it is.
@@ -183,7 +180,7 @@ def _ring_if_slits(walk: list[tuple[int, FloatArray]], paths: dict[int, list[Flo
     tree = cKDTree(members)
     ring = _ring_with_stems(walk, paths, tree, radius)
     if ring is not None and not shapely.Polygon(ring).is_valid:
-        smooth = {v: [_smoothed(p) for p in ps] for v, ps in paths.items()}
+        smooth = {v: [smoothed(p) for p in ps] for v, ps in paths.items()}
         again = _ring_with_stems(walk, smooth, tree, radius)
         if again is not None and shapely.Polygon(again).is_valid:
             ring = again
@@ -236,7 +233,7 @@ def _thin_ring(comp: list[int], edges: list[Edge], members: FloatArray, radius: 
     if len(path) < 3 or len(members) < STEM_DENSITY * density * max(length, radius):
         return None
     tree = cKDTree(members)
-    for walked in (path, _smoothed(path)):  # again along its middle, where it zigzags
+    for walked in (path, smoothed(path)):  # again along its middle, where it zigzags
         ring = out_and_back(walked, -1.0, tree, radius)
         if shapely.Polygon(ring).is_valid:
             return ring
@@ -339,18 +336,6 @@ def _stem_paths(stems: set[int], edges: list[Edge], on_cycle: set[int]
                 k = nxt[0]
             paths.setdefault(v, []).append(np.vstack([parts[0]] + [p[1:] for p in parts[1:]]))
     return paths if seen == stems else None
-
-
-def _smoothed(stem: FloatArray) -> FloatArray:
-    """A stem's path averaged over `SMOOTH_NODES` nodes each side (its root and tip stay)."""
-    if len(stem) < 3:
-        return stem
-    k = SMOOTH_NODES
-    padded = np.vstack([np.repeat(stem[:1], k, axis=0), stem, np.repeat(stem[-1:], k, axis=0)])
-    kernel = np.ones(2 * k + 1) / (2 * k + 1)
-    out = np.column_stack([np.convolve(padded[:, d], kernel, mode="valid") for d in range(2)])
-    out[0], out[-1] = stem[0], stem[-1]
-    return out
 
 
 def _ring_with_stems(walk: list[tuple[int, FloatArray]], paths: dict[int, list[FloatArray]],
