@@ -141,8 +141,8 @@ def _chord_turns(xy: FloatArray, k: int) -> tuple[FloatArray, FloatArray]:
     and out of it to the edge after it."""
     d = np.roll(xy, -1, axis=0) - xy
     chord = np.roll(xy, -k, axis=0) - xy
-    return _signed_turn(np.roll(d, 1, axis=0), chord), _signed_turn(chord,
-                                                                    np.roll(d, -k, axis=0))
+    into = _signed_turn(np.roll(d, 1, axis=0), chord)
+    return into, _signed_turn(chord, np.roll(d, -k, axis=0))
 
 
 def _bare_passes(xy: FloatArray, tree: cKDTree, radius: float, density: float) -> list[int]:

@@ -99,8 +99,8 @@ def _middle(stem: FloatArray) -> FloatArray:
     """A stem's averaged path (`passes.smoothed`) where it zigzags, `ZIGZAG` x as long as
     that path, else the stem itself."""
     middle = smoothed(stem)
-    return middle if polyline_length(stem, False) >= ZIGZAG * polyline_length(middle, False) \
-        else stem
+    zigzag = polyline_length(stem, False) >= ZIGZAG * polyline_length(middle, False)
+    return middle if zigzag else stem
 
 
 def _spread_ratio(dist: FloatArray, on_ring: np.ndarray, radius: float) -> float:

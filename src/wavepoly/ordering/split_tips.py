@@ -29,9 +29,8 @@ from .slits import runs_on_from_hairpin
 #: 2.3 radii short of a narrowing slit (as `piece_graph.T_REACH`).
 TIP_GAP = 3.0
 #: A ring that is no thin tip joins its outline only as a hole a slit reaches: within this
-#: many radii of the outline's hairpin (or the outline of its own), where the march leaves a
-#: slit's end by the hole (0.8 and 1.1 radii on the silhouettes' keyholes). A slit that stops
-#: farther from a hole is a slit of its own.
+#: many radii of it, where the march leaves the slit's end by the hole (0.7-1.1 radii on the
+#: silhouettes' keyholes). A slit that stops farther from a hole is a slit of its own.
 KEYHOLE_GAP = 1.5
 #: ... and the slit's walls run on across the gap: at least this many points lie across its
 #: middle half (one per wall; the keyholes held 2-5, and a glyph's counter facing the notch
