@@ -86,12 +86,14 @@ def test_faces_joined_by_a_bar_or_no_face_give_no_outline():
     assert outline_of_faces([bar], bar, RADIUS) is None
 
 
-@pytest.mark.parametrize(("row", "seed"), [(4, 21), (1, 6)])
+@pytest.mark.parametrize(("row", "seed"), [(4, 21), (1, 6), (1, 110)])
 def test_silhouettes_whose_slits_no_walk_could_draw_come_out_closed(row, seed):
     """Silhouette 21 traced from a 200-pixel bitmap, with noise: a slit's chain forked where
     its walls part by the mouth (5 open pieces before). Silhouette 6, sampled exactly: two
     wedge slits side by side, whose walls the march followed apart into a thin face of its
-    own, which the largest face leaves out (3 open pieces before)."""
+    own, which the largest face leaves out (3 open pieces before). Silhouette 110, exact:
+    three wedge slits whose first passes cross the walk 11 times by their roots (2 open
+    pieces before: the walk was left crossed, and the fit opened it)."""
     from benchmarks.bench_validity import SILHOUETTE_SAMPLINGS
     from benchmarks.silhouettes import bitmap, sample, silhouette
 

@@ -34,8 +34,9 @@ from .untangle import crossing_edges, untangle
 
 #: Where a stem leaves the cycle at a shallow angle, its first pass may cross the edge the walk
 #: arrived by, a few times on each side: up to this many crossings are untangled (2-opt); a walk
-#: with more is left to the fit as it is.
-STEM_CROSSINGS = 4
+#: with more is left to the fit as it is. An outline with three wedge slits crossed 11 times,
+#: 8 by one root (at 4 it was left so, and the fit opened it into two pieces).
+STEM_CROSSINGS = 12
 #: ... each within this many radii of a stem's root.
 ROOT_REACH = 2.0
 #: A loop edge from a junction back to it no longer than this many radii is a speck: the
