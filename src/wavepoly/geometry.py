@@ -21,6 +21,20 @@ def segment_distance(points: FloatArray, a: FloatArray, b: FloatArray) -> FloatA
                                 b[..., 0], b[..., 1])
 
 
+def along_and_across(points: FloatArray, a: FloatArray, b: FloatArray
+                     ) -> tuple[FloatArray, FloatArray]:
+    """Each point's distance along the line from ``a`` towards ``b`` (from ``a``), and its
+    distance from that line (``a`` and ``b`` distinct).
+
+    >>> along_and_across(np.array([[0.5, -2.0]]), np.array([0.0, 0.0]), np.array([2.0, 0.0]))
+    (array([0.5]), array([2.]))
+    """
+    u = np.asarray(b, dtype=np.float64) - a
+    length = float(np.hypot(u[0], u[1]))
+    rel = np.asarray(points, dtype=np.float64) - a
+    return rel @ u / length, np.abs(rel[:, 0] * u[1] - rel[:, 1] * u[0]) / length
+
+
 def _segment_distance_xy(px, py, ax, ay, bx, by):
     """`segment_distance` on separate coordinate arrays (broadcasting; faster on big grids)."""
     ux, uy, wx, wy = bx - ax, by - ay, px - ax, py - ay

@@ -26,7 +26,7 @@ import numpy as np
 import shapely
 from scipy.spatial import cKDTree
 
-from ..geometry import curve_line, polyline_length
+from ..geometry import along_and_across, curve_line, polyline_length
 from ..types import FloatArray, OrderedContour
 from .gaps import keeps_members, meets_others
 
@@ -182,9 +182,8 @@ def _points_along(a: FloatArray, b: FloatArray, tree: cKDTree, radius: float,
     inner = length - 2 * END_CLEARANCE * radius
     if inner <= 0:
         return 0, 0.0
-    rel = tree.data[tree.query_ball_point((a + b) / 2, length / 2 + BAND * radius)] - a
-    along = rel @ (b - a) / length
-    across = np.abs(rel[:, 0] * (b - a)[1] - rel[:, 1] * (b - a)[0]) / length
+    near = tree.data[tree.query_ball_point((a + b) / 2, length / 2 + BAND * radius)]
+    along, across = along_and_across(near, a, b)
     inside = ((along >= END_CLEARANCE * radius) & (along <= length - END_CLEARANCE * radius)
               & (across <= BAND * radius))
     return int(inside.sum()), density * inner

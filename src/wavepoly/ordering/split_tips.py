@@ -22,6 +22,7 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
+from ..geometry import along_and_across
 from ..types import FloatArray, OrderedContour
 from .slits import runs_on_from_hairpin
 
@@ -143,14 +144,11 @@ def _joined(outline: OrderedContour, tip: OrderedContour, radius: float,
 def _walls_across(points: FloatArray, a: FloatArray, b: FloatArray, radius: float) -> int:
     """How many points lie across the middle half of the gap from ``a`` to ``b``, within a
     radius of the line through them."""
-    gap = b - a
-    length = float(np.linalg.norm(gap))
+    length = float(np.linalg.norm(b - a))
     if length == 0:
         return 0
-    rel = points - a
-    along = rel @ gap / length**2
-    across = np.abs(rel[:, 0] * gap[1] - rel[:, 1] * gap[0]) / length
-    return int(((along > 0.25) & (along < 0.75) & (across <= radius)).sum())
+    along, across = along_and_across(points, a, b)
+    return int(((along > 0.25 * length) & (along < 0.75 * length) & (across <= radius)).sum())
 
 
 def _hairpin_at(xy: FloatArray, at: FloatArray, towards: FloatArray, radius: float) -> bool:
