@@ -29,6 +29,7 @@ from .untangle import (
     swap_crossed_stretches,
     untangle,
 )
+from .waists import split_at_waists
 
 #: Chains shorter than this cannot hold a corner with two legs of two points each.
 MIN_CORNER_NODES = 6
@@ -144,6 +145,8 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
         inside[unsure[far]] = False
         outliers.append(members[~inside])
         rings = split_kissing_rings(xy, radius) if closed else [untangle(xy, closed)]
+        if closed and clean:
+            rings = [r for ring in rings for r in split_at_waists(ring, radius)]
         if len(rings) == 1:
             contours.append(OrderedContour(rings[0], closed, members[inside]))  # sorted
         else:

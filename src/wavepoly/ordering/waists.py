@@ -1,0 +1,132 @@
+"""Two shapes that nearly touch, read as one ring pinched at a waist.
+
+Where the outlines of two shapes run closer than the neighbourhoods at one spot (blobs that
+nearly touch, a pixel's corner apart), the march may run along one outline into the narrow
+place and on along the other, and come back the same way on the far side: the chain is the
+outline of their union, pinched at a waist, and it does not cross itself (where it does,
+`untangle.split_kissing_rings` splits it). At the waist each of its two passes turns sharply
+from one shape onto the other, while each shape's own outline runs smoothly past it.
+Reconnecting the two passes the other way (a 2-opt move that splits the ring) gives the two
+shapes; that is kept where it takes away most of the turning at the waist, the outlines run
+smoothly into it, and it leaves two simple rings side by side, each wide. A limb on a narrow
+root turns as much when closed apart (across the root, back along the limb) and stays one; a
+chain that zigzags through a narrow part turns everywhere there and is left alone.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import shapely
+
+from ..types import FloatArray
+from .marching import turning
+from .untangle import MAX_SPLITS, MIN_LOOP_NODES
+
+#: Two passes of a ring at most this many radii apart may be a waist: the march crosses
+#: between two outlines that come within about a radius of each other.
+WAIST_GAP = 1.0
+#: ... and the edges that close each shape across the waist are at most this many radii
+#: long (the march's steps are half a radius to a radius).
+CLOSING_EDGE = 2.0
+#: Splitting must take away at least this much turning (degrees, over both passes): each pass
+#: turns from one shape onto the other, where each shape's own outline runs on (blobs a
+#: pixel's corner apart gained 80-160; a limb closed across its root gains nothing).
+TURN_GAIN = 60.0
+#: ... where the outlines run smoothly into the waist: the median turn (degrees) of the
+#: `ARM_NODES` nodes on either side of each pass is at most this (blobs: 1-13; a chain
+#: zigzagging through a thin part of a silhouette traced from a bitmap: 60 and more).
+ARM_TURN = 30.0
+#: Nodes on either side of a pass that its arms span: the turns are taken between them.
+ARM_NODES = 3
+#: Each shape is at least this many radii wide (twice its area over its perimeter, a disk's
+#: radius): a disk 4 radii across, the smallest ring counted as a shape of its own.
+WAIST_WIDTH = 2.0
+
+
+def split_at_waists(xy: FloatArray, radius: float) -> list[FloatArray]:
+    """A closed chain pinched at waists, as the rings of the shapes that nearly touch there.
+
+    Each split leaves two rings that are split again in turn, up to `MAX_SPLITS`.
+
+    References
+    ----------
+    .. [1] G. A. Croes, "A method for solving traveling-salesman problems", Operations
+       Research 6(6), 1958, pp. 791-812 (the 2-opt move).
+    """
+    done, todo = [], [xy]
+    while todo:
+        ring = todo.pop()
+        split = _waist_split(ring, radius) if len(done) + len(todo) < MAX_SPLITS else None
+        if split is None:
+            done.append(ring)
+        else:
+            todo += split
+    return done
+
+
+def _waist_split(xy: FloatArray, radius: float) -> list[FloatArray] | None:
+    """The two rings of the waist of closed chain ``xy`` that gains the most turning, or
+    None where no waist splits it into simple, wide rings side by side."""
+    n = len(xy)
+    if n < 2 * MIN_LOOP_NODES:
+        return None
+    best, gain_best = None, TURN_GAIN
+    turn = turning(xy, True, step=1)
+    for i, j in _near_edges(xy, WAIST_GAP * radius):
+        loops = [xy[i + 1:j + 1], np.concatenate([xy[j + 1:], xy[:i + 1]])]
+        if max(np.linalg.norm(loop[0] - loop[-1]) for loop in loops) > CLOSING_EDGE * radius:
+            continue
+        gain = _turn_gain(xy, i, j)
+        if gain > gain_best and _smooth_arms(turn, i, j) and _side_by_side(loops, radius):
+            best, gain_best = loops, gain
+    return best
+
+
+def _turn_gain(xy: FloatArray, i: int, j: int) -> float:
+    """How much less the chain turns (degrees) across edges i and j once they are reconnected
+    the other way, each turn taken between the arms of `ARM_NODES` nodes on either side (a
+    short edge's own direction is noise)."""
+    n, k = len(xy), ARM_NODES
+
+    def arm_in(a: int) -> FloatArray:  # direction arriving at node a
+        return xy[a % n] - xy[(a - k) % n]
+
+    def arm_out(a: int) -> FloatArray:  # direction leaving node a
+        return xy[(a + k) % n] - xy[a % n]
+
+    old = _angle(arm_in(i), arm_out(i + 1)) + _angle(arm_in(j), arm_out(j + 1))
+    new = _angle(arm_in(i), arm_out(j + 1)) + _angle(arm_in(j), arm_out(i + 1))
+    return old - new
+
+
+def _angle(a: FloatArray, b: FloatArray) -> float:
+    """Angle (degrees) between two directions."""
+    cos = a @ b / max(np.linalg.norm(a) * np.linalg.norm(b), 1e-300)
+    return float(np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))))
+
+
+def _near_edges(xy: FloatArray, gap: float) -> list[tuple[int, int]]:
+    """(i, j), i < j: edges i and j of closed chain ``xy`` within ``gap`` of each other,
+    with at least `MIN_LOOP_NODES` nodes between them either way round."""
+    n = len(xy)
+    segs = shapely.linestrings(np.stack([xy, np.roll(xy, -1, axis=0)], axis=1))
+    i, j = shapely.STRtree(segs).query(segs, predicate="dwithin", distance=gap)
+    keep = (i < j) & (j - i >= MIN_LOOP_NODES) & (n - (j - i) >= MIN_LOOP_NODES)
+    return list(zip(i[keep].tolist(), j[keep].tolist()))
+
+
+def _smooth_arms(turn: FloatArray, i: int, j: int) -> bool:
+    """Whether the chain runs smoothly into the waist at edges i and j: the median turn of the
+    `ARM_NODES` nodes before and after each pass is at most `ARM_TURN`."""
+    before, after = np.arange(-ARM_NODES, 0), np.arange(2, 2 + ARM_NODES)
+    arms = np.concatenate([i + before, i + after, j + before, j + after]) % len(turn)
+    return bool(np.median(turn[arms]) <= ARM_TURN)
+
+
+def _side_by_side(loops: list[FloatArray], radius: float) -> bool:
+    """Whether both loops are simple, neither meets the other, and both are at least
+    `WAIST_WIDTH` radii wide."""
+    polys = [shapely.Polygon(loop) for loop in loops]
+    if not all(p.is_valid for p in polys) or shapely.intersects(*polys):
+        return False
+    return min(2 * p.area / p.length for p in polys) >= WAIST_WIDTH * radius

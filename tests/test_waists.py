@@ -1,0 +1,99 @@
+"""Two shapes nearly touching, drawn by the march as one ring pinched at a waist
+(`wavepoly.ordering.waists`)."""
+
+import numpy as np
+import pytest
+import shapely
+
+import wavepoly
+from wavepoly.ordering.waists import split_at_waists
+
+from .truth import independent_problems
+
+RADIUS = 1.0
+STEP = 0.7  # the march's node spacing, in radii
+
+
+def _arc(center, r, start, stop):
+    """Nodes every `STEP` along a circle's arc from angle ``start`` to ``stop``."""
+    n = max(int(abs(stop - start) * r / STEP), 2)
+    t = np.linspace(start, stop, n)
+    return np.column_stack([center[0] + r * np.cos(t), center[1] + r * np.sin(t)])
+
+
+def _pinched_union(r=5.0, gap=0.3, cut=0.06, wobble=0.0):
+    """The chain the march draws around two disks ``gap`` apart: each disk's outline but
+    for the arc facing the other (``cut`` radians either side), run as one ring through the
+    waist; ``wobble`` moves every other node across the outline (a zigzag)."""
+    left, right = (-r - gap / 2, 0.0), (r + gap / 2, 0.0)
+    ring = np.vstack([_arc(left, r, cut, 2 * np.pi - cut),
+                      _arc(right, r, np.pi + cut, 3 * np.pi - cut)])
+    if wobble:
+        normal = ring - np.where(ring[:, :1] < 0, left, right)
+        normal /= np.linalg.norm(normal, axis=1, keepdims=True)
+        ring = ring + wobble * normal * (-1) ** np.arange(len(ring))[:, None]
+    return ring
+
+
+def test_two_disks_pinched_at_a_waist_come_apart():
+    ring = _pinched_union()
+    assert shapely.LinearRing(ring).is_simple  # no crossing: the kiss rule cannot see it
+    rings = split_at_waists(ring, RADIUS)
+    assert len(rings) == 2
+    polys = [shapely.Polygon(r) for r in rings]
+    assert all(p.is_valid for p in polys) and not shapely.intersects(*polys)
+    assert sorted(round(p.centroid.x) for p in polys) == [-5, 5]
+    assert sum(len(r) for r in rings) == len(ring)  # the same nodes, none dropped
+
+
+def test_a_zigzag_through_a_waist_stays_one_ring():
+    # the chain turns at every node about the waist: no smooth outlines to follow
+    ring = _pinched_union(wobble=0.35)
+    assert len(split_at_waists(ring, RADIUS)) == 1
+
+
+def test_small_disks_stay_one_ring():
+    # disks 3 radii across are under the width of a shape of their own
+    assert len(split_at_waists(_pinched_union(r=1.5, cut=0.2), RADIUS)) == 1
+
+
+def test_a_limb_on_a_narrow_root_stays_one_ring():
+    # a body with a limb 0.8 radii wide: closing the limb across its root turns back along
+    # it as much as the root's corners turn
+    body = shapely.Point(0, 0).buffer(6.0, quad_segs=16)
+    limb = shapely.box(5.0, -0.4, 14.0, 0.4)
+    outline = shapely.union(body, limb).exterior.segmentize(STEP)
+    ring = np.asarray(outline.coords)[:-1]
+    assert len(split_at_waists(ring, RADIUS)) == 1
+
+
+def test_a_neck_stays_one_ring():
+    # two lobes joined by a neck a radius wide and 4 radii long: its walls run straight
+    lobes = shapely.union_all([shapely.Point(-7, 0).buffer(5.0, quad_segs=16),
+                               shapely.Point(7, 0).buffer(5.0, quad_segs=16),
+                               shapely.box(-3.0, -0.5, 3.0, 0.5)])
+    ring = np.asarray(lobes.exterior.segmentize(STEP).coords)[:-1]
+    assert len(split_at_waists(ring, RADIUS)) == 1
+
+
+def _blobs_fitted(seed: int, noise: float):
+    """The benchmark's blob sweep image ``seed`` (size 0.1, ε = diagonal / 150), sampled
+    every ε / 3 with noise ``noise`` ε, and its fit."""
+    from benchmarks.silhouettes import blobs, sample
+
+    rings = blobs(seed, 0.1)
+    eps = 256 * np.sqrt(2) / 150
+    length = sum(shapely.LinearRing(r).length for r in rings)
+    pts = sample(rings, int(3 * length / eps), noise * eps, seed)
+    return pts, wavepoly.fit(pts, eps), rings
+
+
+@pytest.mark.parametrize(("seed", "noise"), [(0, 0.0), (15, 0.25)])
+def test_blobs_a_pixel_apart_stay_two_rings(seed, noise):
+    """Blob sweep images in which the march ran round two blobs as one ring pinched where
+    they come 0.9 ε (a pixel's corner, exact sampling) or 1.9 ε (noise ε / 4) apart."""
+    pts, result, rings = _blobs_fitted(seed, noise)
+    assert all(c.closed for c in result.contours)
+    assert len(result.contours) == len(rings)
+    assert len(result.outliers) == 0
+    assert result.validity.valid and independent_problems(result) == []
