@@ -518,11 +518,13 @@ def _blobs_fitted(seed: int, noise: float):
     return pts, wavepoly.fit(pts, eps), rings
 
 
-@pytest.mark.parametrize(("seed", "noise"), [(9, 0.0), (14, 0.0), (10, 0.25)])
+@pytest.mark.parametrize(("seed", "noise"), [(9, 0.0), (14, 0.0)])
 def test_blobs_touching_at_a_pixel_corner_stay_two_rings(seed, noise):
     """Random blobs (the benchmark's blob sweep, size 0.1) of which two touch at a pixel's
     corner, their outlines 0.4-0.9 ε apart there: the march ran from one onto the other, and
-    untangling its chain drew both as one outline with a neck (one ring short before)."""
+    untangling its chain drew both as one outline with a neck (one ring short before).
+    (Seed 10 with noise ε / 4 came out with as many contours as rings only because one ring
+    drawn in two pieces made up for two blobs drawn as one; the count was no test of it.)"""
     pts, result, rings = _blobs_fitted(seed, noise)
     assert all(c.closed for c in result.contours)
     assert len(result.contours) == len(rings)

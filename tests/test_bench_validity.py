@@ -1,0 +1,33 @@
+"""The validity benchmark's ring matching (`benchmarks.bench_validity`): a sweep case is right
+by rings only where each ring is drawn by a contour of its own."""
+
+from types import SimpleNamespace
+
+import numpy as np
+
+from benchmarks.bench_validity import _one_per_ring
+
+
+def _square(x, side=10.0):
+    return np.array([[x, 0], [x + side, 0], [x + side, side], [x, side]], float)
+
+
+def _contour(xy, closed=True):
+    return SimpleNamespace(vertices=np.asarray(xy, float), closed=closed)
+
+
+def test_each_ring_drawn_by_its_own_contour_is_right():
+    rings = [_square(0), _square(20), _square(40)]
+    assert _one_per_ring(rings, [_contour(r + 0.2) for r in rings], eps=1.0)
+
+
+def test_a_split_ring_does_not_make_up_for_two_rings_drawn_as_one():
+    rings = [_square(0), _square(20), _square(40)]
+    union = np.vstack([_square(0, 10)[[0, 1]], _square(20)[[0, 1, 2, 3]], _square(0)[[2, 3]]])
+    halves = [_contour(_square(40)[[0, 1, 2]]), _contour(_square(40)[[2, 3, 0]])]
+    assert not _one_per_ring(rings, [_contour(union), *halves], eps=1.0)
+
+
+def test_a_ring_under_four_tolerances_may_merge_into_its_neighbour():
+    rings = [_square(0), _square(10.5, side=2.0)]  # a sliver 2.8 ε across beside the first
+    assert _one_per_ring(rings, [_contour(_square(0))], eps=1.0)
