@@ -5,7 +5,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from benchmarks.bench_validity import _one_per_ring
+from benchmarks.bench_validity import _free_space_share, _one_per_ring
 
 
 def _square(x, side=10.0):
@@ -31,3 +31,13 @@ def test_a_split_ring_does_not_make_up_for_two_rings_drawn_as_one():
 def test_a_ring_under_four_tolerances_may_merge_into_its_neighbour():
     rings = [_square(0), _square(10.5, side=2.0)]  # a sliver 2.8 ε across beside the first
     assert _one_per_ring(rings, [_contour(_square(0))], eps=1.0)
+
+
+def test_free_space_is_the_drawn_length_far_from_every_point():
+    # points along y = 0 from 0 to 4 and from 6 to 10: a line from 0 to 10 crosses a gap of
+    # 2, of which 2 - 2 ε lies farther than ε from both sides
+    x = np.concatenate([np.linspace(0, 4, 401), np.linspace(6, 10, 401)])
+    pts = np.column_stack([x, np.zeros_like(x)])
+    line = _contour([[0.0, 0.0], [10.0, 0.0]], closed=False)
+    assert abs(_free_space_share([line], pts, eps=0.5) - 0.1) < 0.01
+    assert _free_space_share([_contour([[0.0, 0.0], [4.0, 0.0]], closed=False)], pts, 0.5) == 0
