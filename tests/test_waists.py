@@ -7,6 +7,7 @@ import shapely
 
 import wavepoly
 from wavepoly.ordering.waists import split_at_waists
+from wavepoly.samples import sample_rings
 
 from .truth import independent_problems
 
@@ -76,6 +77,30 @@ def test_a_neck_stays_one_ring():
     assert len(split_at_waists(ring, RADIUS)) == 1
 
 
+def test_two_disks_under_a_tolerance_apart_stay_two_rings():
+    """Pairs of disks 12-32 ε across, 0.5-1 ε apart, sampled every ε / 3, exact or with
+    noise ε / 8: the march ran round many of them as one ring pinched where they come
+    closest (on a stretch of up to 4 radii where they run within one of each other). All
+    come out valid; all but a few (an X where the passes turn alike either way) as two
+    rings (measured: 56-58 of 60 over three samplings, 40-42 before)."""
+    eps, rng = 0.1, np.random.default_rng(7)
+    t = np.linspace(0, 2 * np.pi, 720, endpoint=False)
+    circle = np.column_stack([np.cos(t), np.sin(t)])
+    two_rings = 0
+    for k in range(20):
+        r1, r2 = rng.uniform(6, 16, 2) * eps
+        gap, noise = rng.choice([0.5, 0.75, 1.0]) * eps, rng.choice([0.0, 0.125]) * eps
+        angle = rng.uniform(0, 2 * np.pi)
+        center = (r1 + r2 + gap) * np.array([np.cos(angle), np.sin(angle)])
+        pts = sample_rings([r1 * circle, center + r2 * circle], spacing=eps / 3, noise=noise,
+                           seed=k)
+        result = wavepoly.fit(pts, eps)
+        assert result.validity.valid and independent_problems(result) == []
+        assert len(result.outliers) == 0
+        two_rings += [c.closed for c in result.contours] == [True, True]
+    assert two_rings >= 18
+
+
 def _blobs_fitted(seed: int, noise: float):
     """The benchmark's blob sweep image ``seed`` (size 0.1, ε = diagonal / 150), sampled
     every ε / 3 with noise ``noise`` ε, and its fit."""
@@ -88,10 +113,10 @@ def _blobs_fitted(seed: int, noise: float):
     return pts, wavepoly.fit(pts, eps), rings
 
 
-@pytest.mark.parametrize(("seed", "noise"), [(0, 0.0), (15, 0.25)])
+@pytest.mark.parametrize(("seed", "noise"), [(8, 0.0), (15, 0.25)])
 def test_blobs_a_pixel_apart_stay_two_rings(seed, noise):
     """Blob sweep images in which the march ran round two blobs as one ring pinched where
-    they come 0.9 ε (a pixel's corner, exact sampling) or 1.9 ε (noise ε / 4) apart."""
+    they come 0.4 ε (a pixel's corner, exact sampling) or 1.9 ε (noise ε / 4) apart."""
     pts, result, rings = _blobs_fitted(seed, noise)
     assert all(c.closed for c in result.contours)
     assert len(result.contours) == len(rings)

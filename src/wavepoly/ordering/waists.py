@@ -10,7 +10,9 @@ Reconnecting the two passes the other way (a 2-opt move that splits the ring) gi
 shapes; that is kept where it takes away most of the turning at the waist, the outlines run
 smoothly into it, and it leaves two simple rings side by side, each wide. A limb on a narrow
 root turns as much when closed apart (across the root, back along the limb) and stays one; a
-chain that zigzags through a narrow part turns everywhere there and is left alone.
+chain that zigzags through a narrow part turns everywhere there and is left alone. Shapes
+that truly touch at a point (blobs a bitmap joins at a pixel's corner) read the same as
+shapes a fraction of a tolerance apart, and are split too.
 """
 
 from __future__ import annotations
@@ -23,11 +25,14 @@ from .marching import turning
 from .untangle import MAX_SPLITS, MIN_LOOP_NODES
 
 #: Two passes of a ring at most this many radii apart may be a waist: the march crosses
-#: between two outlines that come within about a radius of each other.
-WAIST_GAP = 1.0
+#: between two outlines that come within about a radius of each other (two disks 1 ε apart
+#: with noise ε / 8: passes 1.06 radii apart).
+WAIST_GAP = 1.5
 #: ... and the edges that close each shape across the waist are at most this many radii
-#: long (the march's steps are half a radius to a radius).
-CLOSING_EDGE = 2.0
+#: long: where two large disks run within a radius of each other for a few radii, the march
+#: follows one of them through that stretch and crosses at its far end (disks 12-30 ε
+#: across, 0.5-1 ε apart: closing edges up to 4.5 radii).
+CLOSING_EDGE = 5.0
 #: Splitting must take away at least this much turning (degrees, over both passes): each pass
 #: turns from one shape onto the other, where each shape's own outline runs on (blobs a
 #: pixel's corner apart gained 80-160; a limb closed across its root gains nothing).
