@@ -16,7 +16,7 @@ from wavepoly.types import Contour, FitResult
 from wavepoly.validity import check_contours, split_at_crossings_of
 
 from .conftest import distance_to_output, teeth
-from .truth import independent_problems
+from .truth import blob_sweep_case, independent_problems
 
 
 def _within(points, result):
@@ -506,18 +506,6 @@ def test_a_shallow_crossing_in_a_neck_stays_one_ring():
     assert len(rings) == 1 and shapely.LinearRing(rings[0]).is_simple
 
 
-def _blobs_fitted(seed: int, noise: float):
-    """The benchmark's blob sweep image ``seed`` (blob size 0.1, ε = diagonal / 150),
-    sampled every ε / 3 with noise ``noise`` ε, and its fit: (points, result, true rings)."""
-    from benchmarks.silhouettes import blobs, sample
-
-    rings = blobs(seed, 0.1)
-    eps = 256 * np.sqrt(2) / 150
-    length = sum(shapely.LinearRing(r).length for r in rings)
-    pts = sample(rings, int(3 * length / eps), noise * eps, seed)
-    return pts, wavepoly.fit(pts, eps), rings
-
-
 @pytest.mark.parametrize(("seed", "noise"), [(9, 0.0), (14, 0.0)])
 def test_blobs_touching_at_a_pixel_corner_stay_two_rings(seed, noise):
     """Random blobs (the benchmark's blob sweep, size 0.1) of which two touch at a pixel's
@@ -525,7 +513,7 @@ def test_blobs_touching_at_a_pixel_corner_stay_two_rings(seed, noise):
     untangling its chain drew both as one outline with a neck (one ring short before).
     (Seed 10 with noise ε / 4 came out with as many contours as rings only because one ring
     drawn in two pieces made up for two blobs drawn as one; the count was no test of it.)"""
-    pts, result, rings = _blobs_fitted(seed, noise)
+    pts, result, rings = blob_sweep_case(seed, noise)
     assert all(c.closed for c in result.contours)
     assert len(result.contours) == len(rings)
     assert len(result.outliers) == 0
@@ -552,7 +540,7 @@ def test_rings_split_at_a_neck_stay_closed_when_fitted(monkeypatch):
     split into open pieces at the crossing. Its backbone is now its repaired ordered points."""
     import wavepoly.ordering.untangle as untangle_module
     monkeypatch.setattr(untangle_module, "KISS_ANGLE", 0.0)
-    pts, result, _ = _blobs_fitted(14, 0.25)
+    pts, result, _ = blob_sweep_case(14, 0.25)
     assert all(c.closed for c in result.contours)
     _valid(pts, result)
 
@@ -563,6 +551,6 @@ def test_a_ring_fitted_first_keeps_clear_of_a_closed_neighbour_still_to_come():
     points, so no polygon of the smaller one could keep clear of it, and both were split
     open at the crossing (2 open pieces). The first now keeps clear of the second's ordered
     ring."""
-    pts, result, _ = _blobs_fitted(36, 0.25)
+    pts, result, _ = blob_sweep_case(36, 0.25)
     assert all(c.closed for c in result.contours)
     _valid(pts, result)

@@ -9,7 +9,7 @@ import wavepoly
 from wavepoly.ordering.waists import split_at_waists
 from wavepoly.samples import sample_rings
 
-from .truth import independent_problems
+from .truth import blob_sweep_case, independent_problems
 
 RADIUS = 1.0
 STEP = 0.7  # the march's node spacing, in radii
@@ -101,23 +101,11 @@ def test_two_disks_under_a_tolerance_apart_stay_two_rings():
     assert two_rings >= 18
 
 
-def _blobs_fitted(seed: int, noise: float):
-    """The benchmark's blob sweep image ``seed`` (size 0.1, ε = diagonal / 150), sampled
-    every ε / 3 with noise ``noise`` ε, and its fit."""
-    from benchmarks.silhouettes import blobs, sample
-
-    rings = blobs(seed, 0.1)
-    eps = 256 * np.sqrt(2) / 150
-    length = sum(shapely.LinearRing(r).length for r in rings)
-    pts = sample(rings, int(3 * length / eps), noise * eps, seed)
-    return pts, wavepoly.fit(pts, eps), rings
-
-
 @pytest.mark.parametrize(("seed", "noise"), [(8, 0.0), (15, 0.25)])
 def test_blobs_a_pixel_apart_stay_two_rings(seed, noise):
     """Blob sweep images in which the march ran round two blobs as one ring pinched where
     they come 0.4 ε (a pixel's corner, exact sampling) or 1.9 ε (noise ε / 4) apart."""
-    pts, result, rings = _blobs_fitted(seed, noise)
+    pts, result, rings = blob_sweep_case(seed, noise)
     assert all(c.closed for c in result.contours)
     assert len(result.contours) == len(rings)
     assert len(result.outliers) == 0

@@ -223,3 +223,16 @@ def las_tiles(folder, cloud: np.ndarray, count: int) -> list:
         paths.append(folder / f"tile{k}.laz")
         las.write(str(paths[-1]))
     return paths
+
+
+def blob_sweep_case(seed: int, noise: float):
+    """The validity benchmark's blob sweep image ``seed`` (blob size 0.1, ε = diagonal / 150),
+    sampled every ε / 3 with noise ``noise`` ε, and its fit: (points, result, true rings)."""
+    import wavepoly
+    from benchmarks.silhouettes import blobs, sample
+
+    rings = blobs(seed, 0.1)
+    eps = 256 * np.sqrt(2) / 150
+    length = sum(shapely.LinearRing(r).length for r in rings)
+    pts = sample(rings, int(3 * length / eps), noise * eps, seed)
+    return pts, wavepoly.fit(pts, eps), rings
