@@ -35,14 +35,16 @@ WAIST_GAP = 1.5
 CLOSING_EDGE = 5.0
 #: Splitting must take away at least this much turning (degrees, over both passes): each pass
 #: turns from one shape onto the other, where each shape's own outline runs on (blobs a
-#: pixel's corner apart gained 80-160; a limb closed across its root gains nothing).
+#: pixel's corner apart gained 68-150, disks 0.5-1 ε apart up to 230; a limb closed across
+#: its root gains nothing; 30 split a silhouette's body at a narrow place).
 TURN_GAIN = 60.0
 #: ... where the outlines run smoothly into the waist: the median turn (degrees) of the
 #: `ARM_NODES` nodes on either side of each pass is at most this (blobs: 1-13; a chain
 #: zigzagging through a thin part of a silhouette traced from a bitmap: 60 and more).
 ARM_TURN = 30.0
-#: Nodes on either side of a pass that its arms span: the turns are taken between them.
-ARM_NODES = 3
+#: Nodes on either side of a pass that its arms span: the turns are taken between them (3
+#: bends the arms round a small blob's outline as much as the waist turns).
+ARM_NODES = 2
 #: Each shape is at least this many radii wide (twice its area over its perimeter, a disk's
 #: radius): a disk 4 radii across, the smallest ring counted as a shape of its own.
 WAIST_WIDTH = 2.0
