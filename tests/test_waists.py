@@ -54,7 +54,8 @@ def test_a_zigzag_through_a_waist_stays_one_ring():
 
 
 def test_small_disks_stay_one_ring():
-    # disks 3 radii across are under the width of a shape of their own
+    # disks 3 radii across: under the width of a shape of their own, and their outlines
+    # turn by 30 degrees at every node, as a zigzag does
     assert len(split_at_waists(_pinched_union(r=1.5, cut=0.2), RADIUS)) == 1
 
 
