@@ -30,7 +30,8 @@ Python loop runs over points:
    (`contours`); on a clean sampling (scatter at most a quarter of the radius) a point within
    two radii of its contour is a member, the tail of that scatter, which the polygon covers.
    A ring the march drew around two shapes that nearly touch, pinched at a waist where each
-   of its passes turns from one shape onto the other, is split into the two (`waists`).
+   of its passes turns from one shape onto the other, is split into the two, as is a hole
+   that nearly touches its outline (`waists`).
    A group of outliers or a short stroke beyond a closed contour's sharp turn is the tip of a
    notch the march turned back from: the turn's vertex moves out to it (`tips`). Open pieces
    that form one cycle with stems hanging off it (a slit or a thin limb whose walls the march

@@ -159,10 +159,22 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
     # on a noisy scan (a laser map) a room's wall and a short wall meeting it are lines
     if stems and clean:
         contours = close_gaps(close_outlines(contours, pts, radius), pts, radius)
+        contours = _split_off_holes(contours, pts, radius)
         contours = join_through_mouths(rejoin_split_tips(contours, radius, pts), pts, radius)
         if any(not c.closed for c in contours):  # the outlines closed since take their tips
             contours, outliers = extend_tips(contours, outliers, pts, radius, outlier_gap)
     return contours, outliers
+
+
+def _split_off_holes(contours: list[OrderedContour], pts: FloatArray, radius: float
+                     ) -> list[OrderedContour]:
+    """Outlines closed from open pieces that ran into a hole where it nearly touches them,
+    each split into the outline and the hole (`waists`), their members shared."""
+    out: list[OrderedContour] = []
+    for c in contours:
+        rings = split_at_waists(c.points, radius, holes_only=True) if c.closed else [c.points]
+        out += [c] if len(rings) == 1 else share_members(rings, c.members, pts, closed=True)
+    return out
 
 
 def clean_scan(noise: float, radius: float, per_radius: float = np.inf,

@@ -13,6 +13,12 @@ root turns as much when closed apart (across the root, back along the limb) and 
 chain that zigzags through a narrow part turns everywhere there and is left alone. Shapes
 that truly touch at a point (blobs a bitmap joins at a pixel's corner) read the same as
 shapes a fraction of a tolerance apart, and are split too.
+
+A hole that nearly touches its outline reads the same way: the march runs from the outline
+into the hole, round it and back out. Split, the hole lies inside the outline; it is kept
+apart only where both close smoothly, since where a slit runs from the outline into the hole
+(a keyhole, one outline) each would close turning back along the slit's walls. Outlines
+that the stems pass closes from open pieces (`stems`) are searched for such holes too.
 """
 
 from __future__ import annotations
@@ -48,12 +54,17 @@ ARM_NODES = 2
 #: Each shape is at least this many radii wide (twice its area over its perimeter, a disk's
 #: radius): a disk 4 radii across, the smallest ring counted as a shape of its own.
 WAIST_WIDTH = 2.0
+#: A hole split from its outline closes, and the outline closes, turning by at most this
+#: (degrees) across the edges that close them: two smooth outlines, not a slit's walls.
+HOLE_CLOSING_TURN = 60.0
 
 
-def split_at_waists(xy: FloatArray, radius: float) -> list[FloatArray]:
+def split_at_waists(xy: FloatArray, radius: float, holes_only: bool = False
+                    ) -> list[FloatArray]:
     """A closed chain pinched at waists, as the rings of the shapes that nearly touch there.
 
-    Each split leaves two rings that are split again in turn, up to `MAX_SPLITS`.
+    Each split leaves two rings that are split again in turn, up to `MAX_SPLITS`;
+    ``holes_only``: split off only holes that nearly touch their outline.
 
     References
     ----------
@@ -63,7 +74,8 @@ def split_at_waists(xy: FloatArray, radius: float) -> list[FloatArray]:
     done, todo = [], [xy]
     while todo:
         ring = todo.pop()
-        split = _waist_split(ring, radius) if len(done) + len(todo) < MAX_SPLITS else None
+        split = (_waist_split(ring, radius, holes_only) if len(done) + len(todo) < MAX_SPLITS
+                 else None)
         if split is None:
             done.append(ring)
         else:
@@ -71,7 +83,8 @@ def split_at_waists(xy: FloatArray, radius: float) -> list[FloatArray]:
     return done
 
 
-def _waist_split(xy: FloatArray, radius: float) -> list[FloatArray] | None:
+def _waist_split(xy: FloatArray, radius: float, holes_only: bool = False
+                 ) -> list[FloatArray] | None:
     """The two rings of the waist of closed chain ``xy`` that gains the most turning, or
     None where no waist splits it into simple, wide rings side by side."""
     n = len(xy)
@@ -83,16 +96,18 @@ def _waist_split(xy: FloatArray, radius: float) -> list[FloatArray] | None:
         loops = [xy[i + 1:j + 1], np.concatenate([xy[j + 1:], xy[:i + 1]])]
         if max(np.linalg.norm(loop[0] - loop[-1]) for loop in loops) > CLOSING_EDGE * radius:
             continue
-        gain = _turn_gain(xy, i, j)
-        if gain > gain_best and _smooth_arms(turn, i, j) and _side_by_side(loops, radius):
+        old, new = _pass_turns(xy, i, j)
+        gain = old - sum(new)
+        if (gain > gain_best and _smooth_arms(turn, i, j)
+                and _apart(loops, radius, max(new), holes_only)):
             best, gain_best = loops, gain
     return best
 
 
-def _turn_gain(xy: FloatArray, i: int, j: int) -> float:
-    """How much less the chain turns (degrees) across edges i and j once they are reconnected
-    the other way, each turn taken between the arms of `ARM_NODES` nodes on either side (a
-    short edge's own direction is noise)."""
+def _pass_turns(xy: FloatArray, i: int, j: int) -> tuple[float, tuple[float, float]]:
+    """How much the chain turns (degrees) across edges i and j, summed, and across each of
+    the two edges that reconnect them the other way; each turn taken between the arms of
+    `ARM_NODES` nodes on either side (a short edge's own direction is noise)."""
     n, k = len(xy), ARM_NODES
 
     def arm_in(a: int) -> FloatArray:  # direction arriving at node a
@@ -102,8 +117,7 @@ def _turn_gain(xy: FloatArray, i: int, j: int) -> float:
         return xy[(a + k) % n] - xy[a % n]
 
     old = _angle(arm_in(i), arm_out(i + 1)) + _angle(arm_in(j), arm_out(j + 1))
-    new = _angle(arm_in(i), arm_out(j + 1)) + _angle(arm_in(j), arm_out(i + 1))
-    return old - new
+    return old, (_angle(arm_in(i), arm_out(j + 1)), _angle(arm_in(j), arm_out(i + 1)))
 
 
 def _angle(a: FloatArray, b: FloatArray) -> float:
@@ -130,10 +144,20 @@ def _smooth_arms(turn: FloatArray, i: int, j: int) -> bool:
     return bool(np.median(turn[arms]) <= ARM_TURN)
 
 
-def _side_by_side(loops: list[FloatArray], radius: float) -> bool:
-    """Whether both loops are simple, neither meets the other, and both are at least
-    `WAIST_WIDTH` radii wide."""
-    polys = [shapely.Polygon(loop) for loop in loops]
-    if not all(p.is_valid for p in polys) or shapely.intersects(*polys):
+def _apart(loops: list[FloatArray], radius: float, closing_turn: float,
+           holes_only: bool = False) -> bool:
+    """Whether both loops are simple, lie side by side or one wholly inside the other without
+    meeting, and are both at least `WAIST_WIDTH` radii wide. One inside the other is a hole
+    that nearly touches its outline only where each closes smoothly (``closing_turn``, the
+    larger turn across the edges that close them, at most `HOLE_CLOSING_TURN`): where a slit
+    runs from the outline into the hole, closing each turns back along the slit's walls."""
+    one, two = (shapely.Polygon(loop) for loop in loops)
+    if not (one.is_valid and two.is_valid):
         return False
-    return min(2 * p.area / p.length for p in polys) >= WAIST_WIDTH * radius
+    if shapely.intersects(one, two):
+        nested = one.contains_properly(two) or two.contains_properly(one)
+        if not nested or closing_turn > HOLE_CLOSING_TURN:
+            return False
+    elif holes_only:
+        return False
+    return min(2 * p.area / p.length for p in (one, two)) >= WAIST_WIDTH * radius
