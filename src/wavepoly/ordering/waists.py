@@ -150,7 +150,8 @@ def _apart(loops: list[FloatArray], radius: float, closing_turn: float,
     meeting, and are both at least `WAIST_WIDTH` radii wide. One inside the other is a hole
     that nearly touches its outline only where each closes smoothly (``closing_turn``, the
     larger turn across the edges that close them, at most `HOLE_CLOSING_TURN`): where a slit
-    runs from the outline into the hole, closing each turns back along the slit's walls."""
+    runs from the outline into the hole, closing each turns back along the slit's walls.
+    ``holes_only``: side by side does not count."""
     one, two = (shapely.Polygon(loop) for loop in loops)
     if not (one.is_valid and two.is_valid):
         return False
