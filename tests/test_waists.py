@@ -114,7 +114,7 @@ def test_blobs_a_pixel_apart_stay_two_rings(seed, noise):
 
 
 def test_a_hole_nearly_touching_its_outline_stays_a_hole():
-    """Disks 3-6 ε across with a hole 0.5-1 ε from the outline at one point, sampled every
+    """Disks 32-64 ε across with a hole 0.5-1 ε from the outline at one point, sampled every
     ε / 3, exact or with noise ε / 8: the march ran from the outline into the hole and on round
     it. The outline and the hole come out apart in most (15 of these 20; 4 before), every
     result valid."""
