@@ -15,6 +15,9 @@ References
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from functools import partial
+
 import numpy as np
 import shapely
 
@@ -81,14 +84,22 @@ def split_kissing_rings(xy: FloatArray, radius: float) -> list[FloatArray]:
     at least `KISSING_WIDTH` radii wide. Each loop is split again where it still crosses
     itself.
     """
+    return [untangle(ring, True) for ring in split_repeatedly(xy, partial(_kissing_split,
+                                                                         radius=radius))]
+
+
+def split_repeatedly(xy: FloatArray, split: Callable[[FloatArray], list[FloatArray] | None]
+                     ) -> list[FloatArray]:
+    """The rings left once ``split`` (a ring's pieces, or None where it stays whole) has been
+    applied to a closed chain and to each piece in turn, up to `MAX_SPLITS` splits."""
     done, todo = [], [xy]
     while todo:
         ring = todo.pop()
-        split = _kissing_split(ring, radius) if len(done) + len(todo) < MAX_SPLITS else None
-        if split is None:
-            done.append(untangle(ring, True))
+        pieces = split(ring) if len(done) + len(todo) < MAX_SPLITS else None
+        if pieces is None:
+            done.append(ring)
         else:
-            todo += split
+            todo += pieces
     return done
 
 

@@ -23,12 +23,14 @@ that the stems pass closes from open pieces (`stems`) are searched for such hole
 
 from __future__ import annotations
 
+from functools import partial
+
 import numpy as np
 import shapely
 
 from ..types import FloatArray
 from .marching import turning
-from .untangle import MAX_SPLITS, MIN_LOOP_NODES
+from .untangle import MIN_LOOP_NODES, split_repeatedly
 
 #: Two passes of a ring at most this many radii apart may be a waist: the march crosses
 #: between two outlines that come within about a radius of each other (two disks 1 ε apart
@@ -63,7 +65,7 @@ def split_at_waists(xy: FloatArray, radius: float, holes_only: bool = False
                     ) -> list[FloatArray]:
     """A closed chain pinched at waists, as the rings of the shapes that nearly touch there.
 
-    Each split leaves two rings that are split again in turn, up to `MAX_SPLITS`;
+    Each split leaves two rings that are split again in turn, up to `untangle.MAX_SPLITS`;
     ``holes_only``: split off only holes that nearly touch their outline.
 
     References
@@ -71,16 +73,7 @@ def split_at_waists(xy: FloatArray, radius: float, holes_only: bool = False
     .. [1] G. A. Croes, "A method for solving traveling-salesman problems", Operations
        Research 6(6), 1958, pp. 791-812 (the 2-opt move).
     """
-    done, todo = [], [xy]
-    while todo:
-        ring = todo.pop()
-        split = (_waist_split(ring, radius, holes_only) if len(done) + len(todo) < MAX_SPLITS
-                 else None)
-        if split is None:
-            done.append(ring)
-        else:
-            todo += split
-    return done
+    return split_repeatedly(xy, partial(_waist_split, radius=radius, holes_only=holes_only))
 
 
 def _waist_split(xy: FloatArray, radius: float, holes_only: bool = False
@@ -90,16 +83,21 @@ def _waist_split(xy: FloatArray, radius: float, holes_only: bool = False
     n = len(xy)
     if n < 2 * MIN_LOOP_NODES:
         return None
+    pairs = _near_edges(xy, WAIST_GAP * radius)
+    if not pairs:
+        return None
     best, gain_best = None, TURN_GAIN
     turn = turning(xy, True, step=1)
-    for i, j in _near_edges(xy, WAIST_GAP * radius):
-        loops = [xy[i + 1:j + 1], np.concatenate([xy[j + 1:], xy[:i + 1]])]
-        if max(np.linalg.norm(loop[0] - loop[-1]) for loop in loops) > CLOSING_EDGE * radius:
+    for i, j in pairs:
+        closing = max(np.linalg.norm(xy[j] - xy[i + 1]), np.linalg.norm(xy[i] - xy[(j + 1) % n]))
+        if closing > CLOSING_EDGE * radius:
             continue
         old, new = _pass_turns(xy, i, j)
         gain = old - sum(new)
-        if (gain > gain_best and _smooth_arms(turn, i, j)
-                and _apart(loops, radius, max(new), holes_only)):
+        if gain <= gain_best or not _smooth_arms(turn, i, j):
+            continue
+        loops = [xy[i + 1:j + 1], np.concatenate([xy[j + 1:], xy[:i + 1]])]
+        if _apart(loops, radius, max(new), holes_only):
             best, gain_best = loops, gain
     return best
 
