@@ -78,12 +78,22 @@ def test_a_neck_stays_one_ring():
     assert len(split_at_waists(ring, RADIUS)) == 1
 
 
+def test_a_wide_neck_stays_one_ring():
+    # two lobes joined by a neck 2 radii wide and 2 long: passes within `WAIST_GAP` of each
+    # other, but closing across them turns more than the neck's corners
+    lobes = shapely.union_all([shapely.Point(-6, 0).buffer(5.0, quad_segs=16),
+                               shapely.Point(6, 0).buffer(5.0, quad_segs=16),
+                               shapely.box(-2.0, -1.0, 2.0, 1.0)])
+    ring = np.asarray(lobes.exterior.segmentize(STEP).coords)[:-1]
+    assert len(split_at_waists(ring, RADIUS)) == 1
+
+
 def test_two_disks_under_a_tolerance_apart_stay_two_rings():
     """Pairs of disks 12-32 ε across, 0.5-1 ε apart, sampled every ε / 3, exact or with
     noise ε / 8: the march ran round many of them as one ring pinched where they come
     closest (on a stretch of up to 4 radii where they run within one of each other). All
     come out valid; all but a few (an X where the passes turn alike either way) as two
-    rings (measured: 56-58 of 60 over three samplings, 40-42 before)."""
+    rings (measured: 57-59 of 60 over three samplings, 40-42 before; these 20: 20)."""
     eps, rng = 0.1, np.random.default_rng(7)
     t = np.linspace(0, 2 * np.pi, 720, endpoint=False)
     circle = np.column_stack([np.cos(t), np.sin(t)])
@@ -116,8 +126,8 @@ def test_blobs_a_pixel_apart_stay_two_rings(seed, noise):
 def test_a_hole_nearly_touching_its_outline_stays_a_hole():
     """Disks 32-64 ε across with a hole 0.5-1 ε from the outline at one point, sampled every
     ε / 3, exact or with noise ε / 8: the march ran from the outline into the hole and on round
-    it. The outline and the hole come out apart in most (15 of these 20; 4 before), every
-    result valid."""
+    it. The outline and the hole come out apart in most (18 of these 20; 4 before passes
+    were searched, 15 while only those 1.5 radii apart were), every result valid."""
     eps, rng = 0.1, np.random.default_rng(7)
     t = np.linspace(0, 2 * np.pi, 720, endpoint=False)
     circle = np.column_stack([np.cos(t), np.sin(t)])
@@ -134,7 +144,7 @@ def test_a_hole_nearly_touching_its_outline_stays_a_hole():
         assert result.validity.valid and independent_problems(result) == []
         assert len(result.outliers) == 0
         two_rings += [c.closed for c in result.contours] == [True, True]
-    assert two_rings >= 13
+    assert two_rings >= 16
 
 
 @pytest.mark.parametrize("row", [1, 2])

@@ -33,9 +33,11 @@ from .marching import turning
 from .untangle import MIN_LOOP_NODES, split_repeatedly
 
 #: Two passes of a ring at most this many radii apart may be a waist: the march crosses
-#: between two outlines that come within about a radius of each other (two disks 1 ε apart
-#: with noise ε / 8: passes 1.06 radii apart).
-WAIST_GAP = 1.5
+#: between two outlines that come within about a radius of each other, and where they run
+#: close for a while it may cross a few radii on (disks 1 ε apart with noise ε / 8: passes
+#: 1.06 radii apart; a hole 0.5-1 ε from its outline: 1.5-2.2; 3 split a blob at a neck
+#: 2 ε wide).
+WAIST_GAP = 2.5
 #: ... and the edges that close each shape across the waist are at most this many radii
 #: long: where two large disks run within a radius of each other for a few radii, the march
 #: follows one of them through that stretch and crosses at its far end (disks 12-30 ε
