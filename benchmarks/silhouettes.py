@@ -100,3 +100,19 @@ def blobs(seed: int, size_fraction: float, pixels: int = 256, volume: float = 0.
     lines = contourpy.contour_generator(z=image).lines(0.5)
     traced = [line[:-1] for line in lines if abs(shapely.Polygon(line).area) >= BITMAP_MIN_AREA]
     return sorted(traced, key=lambda r: -abs(shapely.Polygon(r).area))
+
+
+def star(spikes: int, spike_width: float, spike_length: float = 1.5) -> np.ndarray:
+    """Outline of a unit disk with ``spikes`` wedges out of it, each ``spike_width`` wide
+    where it leaves the disk and ``spike_length`` long: parts thinner than a coarse tolerance
+    over most of their length."""
+    body = shapely.Point(0, 0).buffer(1.0, quad_segs=32)
+    wedges = []
+    for angle in np.linspace(0, 2 * np.pi, spikes, endpoint=False):
+        along = np.array([np.cos(angle), np.sin(angle)])
+        across = np.array([-along[1], along[0]])
+        base = 0.9 * along
+        wedges.append(shapely.Polygon([base - spike_width / 2 * across,
+                                       base + (0.1 + spike_length) * along,
+                                       base + spike_width / 2 * across]))
+    return np.asarray(shapely.union_all([body, *wedges]).exterior.coords)[:-1]

@@ -42,12 +42,18 @@ Python loop runs over points:
 5. On a noisy scan the outliers are read again: the compact strokes among them (a ghost wall
    beside a wall, the foot of a short wall meeting it) become contours clear of the first
    ones (`strokes`).
+6. Where the radius spans only a few point spacings (a sparse sample at a coarse tolerance),
+   its neighbourhoods may span both walls of a part thinner than the tolerance and measure
+   them as noise. The scan is then read again at half the radius, and that reading is kept
+   where it is clean and measures much less noise, and leaves no more points out and no more
+   contours open (`FINER_RADIUS`).
 
 All neighbour queries use `scipy.spatial.cKDTree`; the cost is O(n log n).
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import replace
 from functools import partial
 
@@ -67,7 +73,7 @@ from .marching import (
     wide_nodes,
 )
 from .neighbourhoods import Nodes, nodes_with_points, perpendicular_kurtosis
-from .noise import noise_adaptive_nodes, runs_through_the_middle
+from .noise import noise_adaptive_nodes, noise_at, runs_through_the_middle
 from .spacing import curve_spacing, median_spacing, spacing_bound
 from .strokes import stroke_contours
 from .walls import split_two_walls
@@ -92,6 +98,29 @@ FRAGMENTS = 3
 #: ... and it keeps all but this share of the points (a crust set that only noise can join
 #: into one contour loses more: ventilator, 8 contours against 1 with 58 % outliers).
 NOISE_READ_LOSS = 0.25
+
+#: Where the tolerance spans a few point spacings, the scan is read again at this share of the
+#: radius (at least `SPACINGS_PER_RADIUS` spacings): at the tolerance's radius a
+#: neighbourhood may span both walls of a part thinner than the tolerance (a dolphin's fin, a
+#: drill's neck at 5-7 % of their size), and measures them as noise...
+FINER_RADIUS = 0.5
+#: ... if that is at most this share of the radius (widened to the spacings, a reading
+#: barely finer sees the same neighbourhoods)...
+FINER_AT_MOST = 0.8
+#: ... on samples with at most this many spacings per radius (a laser map's bands hold more,
+#: and there a finer neighbourhood measures less of the same scatter, not a thin part)...
+FINER_SPACINGS = 12.0
+#: ... and the finer reading is kept where it is clean and the tolerance's was not, or where it
+#: measures at most this share of the noise the tolerance's did: the walls of a thin part, not
+#: scatter, made that noise (a noisy band measures less in smaller neighbourhoods too, but
+#: not a clean sampling's spread); and where it leaves no more points out and no more
+#: contours open (spikes thinner than the finer radius too read as strokes meeting the body).
+FINER_NOISE = 0.6
+#: A finer reading is clean only on a scatter of at least this share of its spread over a
+#: neighbourhood: a noisy band's scatter, measured over windows a few scatters wide where
+#: half its seeds look like a flat band, falls to almost nothing (fish.txt at 0.27: 0.000 of
+#: a spread of 0.31 radii; a thin part's walls: 0.18-0.37).
+FINER_SCATTER = 0.1
 
 #: On a dense noisy scan a node summarizes at least this many points: one point has no
 #: tangent (its regression line points anywhere), and strays on a laser map's floor, one per
@@ -147,11 +176,12 @@ def order_points(points: FloatArray, radius: float, *, seed: int = 0, min_points
                      f"along the curves ({spacing:.4g}) is more than a third of it")
         radius = new_radius
     sparse = radius > SPARSE_WIDENING * given
-    read = partial(_read, pts, radius, given, seed, min_points, tuple(notes), spacing,
-                   tolerance)
+    read = partial(_read, pts, radius=radius, given=given, seed=seed, min_points=min_points,
+                   notes=tuple(notes), spacing=spacing, tolerance=tolerance)
     ordering = read(sparse=sparse)
     if not sparse:
-        return ordering
+        finer = _finer_reading(ordering, pts, radius, spacing, read)
+        return ordering if finer is None else finer
     # a crust test set, or a noisy band sampled more densely than the tolerance?
     clean, noisy = ordering, read(sparse=False)
     if not _better_read_as_noise(clean, noisy, len(pts)):
@@ -159,6 +189,33 @@ def order_points(points: FloatArray, radius: float, *, seed: int = 0, min_points
     note = (f"read as a noisy band, not as a sparse sample: as a sparse one the points fall "
             f"apart into {len(clean.contours)} contours")
     return replace(noisy, notes=(*noisy.notes, note))
+
+
+def _finer_reading(ordering: Ordering, pts: FloatArray, radius: float, spacing: float,
+                   read: Callable[..., Ordering]) -> Ordering | None:
+    """The scan read at a finer radius (`FINER_RADIUS`), where that reading is clean and
+    measures much less noise than ``ordering``, read at ``radius``; else None. Only on samples
+    with a few spacings per radius (`FINER_SPACINGS`)."""
+    finer = max(FINER_RADIUS * radius, SPACINGS_PER_RADIUS * spacing)
+    if not (0 < spacing and radius <= FINER_SPACINGS * spacing
+            and finer <= FINER_AT_MOST * radius):
+        return None
+    noise, scatter = noise_at(pts, finer, SPACINGS_PER_RADIUS * spacing)
+    if (not clean_scan(noise, finer, finer / spacing, scatter)
+            or scatter < FINER_SCATTER * noise
+            or (ordering.clean and noise > FINER_NOISE * ordering.noise)):
+        return None  # measured before marching: a laser map's band is not clean either way
+    fine = read(radius=finer, sparse=False)
+    if len(fine.outliers) > len(ordering.outliers) or _open(fine) > _open(ordering):
+        return None  # spikes thinner than the finer radius too, read as strokes
+    note = (f"read at a radius of {finer:.4g}: at {radius:.4g} the neighbourhoods spanned "
+            f"parts thinner than that (noise {ordering.noise:.3g} there, {fine.noise:.3g} here)")
+    return replace(fine, notes=(*fine.notes, note))
+
+
+def _open(ordering: Ordering) -> int:
+    """How many of the contours of ``ordering`` are open."""
+    return sum(not c.closed for c in ordering.contours)
 
 
 def _better_read_as_noise(clean: Ordering, noisy: Ordering, n_points: int) -> bool:

@@ -123,8 +123,13 @@ def below_the_bell(tolerance: float, noise: float, scatter: float) -> bool:
 def neighbourhood_spread(pts: FloatArray, radius: float) -> float:
     """The spread of the points about their curves over neighbourhoods of ``radius`` (the
     first figure of `noise_level`), as the ordering would measure it at that radius."""
+    return noise_at(pts, radius)[0]
+
+
+def noise_at(pts: FloatArray, radius: float, min_window: float = 0.0) -> tuple[float, float]:
+    """`noise_level` as `noise_adaptive_nodes` measures it at ``radius``, without the nodes."""
     atoms = cell_atoms(pts, radius)
-    return noise_level(_cell_centroids(atoms), atoms, radius)[0]
+    return noise_level(_cell_centroids(atoms), atoms, radius, NOISE_SEEDS, min_window)
 
 
 def _cell_centroids(atoms: Atoms) -> FloatArray:
