@@ -28,7 +28,7 @@ from functools import partial
 import numpy as np
 import shapely
 
-from ..types import FloatArray
+from ..types import FloatArray, IntArray
 from .marching import turning
 from .untangle import MIN_LOOP_NODES, split_repeatedly
 
@@ -85,63 +85,68 @@ def _waist_split(xy: FloatArray, radius: float, holes_only: bool = False
     n = len(xy)
     if n < 2 * MIN_LOOP_NODES:
         return None
-    pairs = _near_edges(xy, WAIST_GAP * radius)
-    if not pairs:
+    i, j = _near_edges(xy, WAIST_GAP * radius)
+    closing = np.maximum(np.linalg.norm(xy[j] - xy[i + 1], axis=1),
+                         np.linalg.norm(xy[i] - xy[(j + 1) % n], axis=1))
+    i, j = i[closing <= CLOSING_EDGE * radius], j[closing <= CLOSING_EDGE * radius]
+    old, new_i, new_j = _pass_turns(xy, i, j)
+    gain = old - new_i - new_j
+    keep = gain > TURN_GAIN
+    i, j, gain, new = i[keep], j[keep], gain[keep], np.maximum(new_i, new_j)[keep]
+    if not len(i):
         return None
-    best, gain_best = None, TURN_GAIN
-    turn = turning(xy, True, step=1)
-    for i, j in pairs:
-        closing = max(np.linalg.norm(xy[j] - xy[i + 1]), np.linalg.norm(xy[i] - xy[(j + 1) % n]))
-        if closing > CLOSING_EDGE * radius:
+    smooth = _smooth_arms(turning(xy, True, step=1), i, j)
+    for k in np.argsort(-gain, kind="stable"):  # the largest gain first, then the first pair
+        if not smooth[k]:
             continue
-        old, new = _pass_turns(xy, i, j)
-        gain = old - sum(new)
-        if gain <= gain_best or not _smooth_arms(turn, i, j):
-            continue
-        loops = [xy[i + 1:j + 1], np.concatenate([xy[j + 1:], xy[:i + 1]])]
-        if _apart(loops, radius, max(new), holes_only):
-            best, gain_best = loops, gain
-    return best
+        loops = [xy[i[k] + 1:j[k] + 1], np.concatenate([xy[j[k] + 1:], xy[:i[k] + 1]])]
+        if _apart(loops, radius, float(new[k]), holes_only):
+            return loops
+    return None
 
 
-def _pass_turns(xy: FloatArray, i: int, j: int) -> tuple[float, tuple[float, float]]:
-    """How much the chain turns (degrees) across edges i and j, summed, and across each of
-    the two edges that reconnect them the other way; each turn taken between the arms of
-    `ARM_NODES` nodes on either side (a short edge's own direction is noise)."""
+def _pass_turns(xy: FloatArray, i: IntArray, j: IntArray
+                ) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """For each pair of edges i and j: how much the chain turns (degrees) across them,
+    summed, and across each of the two edges that reconnect them the other way (from i, and
+    from j); each turn taken between the arms of `ARM_NODES` nodes on either side (a short
+    edge's own direction is noise)."""
     n, k = len(xy), ARM_NODES
 
-    def arm_in(a: int) -> FloatArray:  # direction arriving at node a
+    def arm_in(a: IntArray) -> FloatArray:  # direction arriving at node a
         return xy[a % n] - xy[(a - k) % n]
 
-    def arm_out(a: int) -> FloatArray:  # direction leaving node a
+    def arm_out(a: IntArray) -> FloatArray:  # direction leaving node a
         return xy[(a + k) % n] - xy[a % n]
 
     old = _angle(arm_in(i), arm_out(i + 1)) + _angle(arm_in(j), arm_out(j + 1))
-    return old, (_angle(arm_in(i), arm_out(j + 1)), _angle(arm_in(j), arm_out(i + 1)))
+    return old, _angle(arm_in(i), arm_out(j + 1)), _angle(arm_in(j), arm_out(i + 1))
 
 
-def _angle(a: FloatArray, b: FloatArray) -> float:
-    """Angle (degrees) between two directions."""
-    cos = a @ b / max(np.linalg.norm(a) * np.linalg.norm(b), 1e-300)
-    return float(np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))))
+def _angle(a: FloatArray, b: FloatArray) -> FloatArray:
+    """Angle (degrees) between the directions in each row of a and b."""
+    norms = np.maximum(np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1), 1e-300)
+    cos = np.einsum("ij,ij->i", a, b) / norms
+    return np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
 
 
-def _near_edges(xy: FloatArray, gap: float) -> list[tuple[int, int]]:
-    """(i, j), i < j: edges i and j of closed chain ``xy`` within ``gap`` of each other,
-    with at least `MIN_LOOP_NODES` nodes between them either way round."""
+def _near_edges(xy: FloatArray, gap: float) -> tuple[IntArray, IntArray]:
+    """(i, j), i < j, in the order of i then j: edges i and j of closed chain ``xy`` within
+    ``gap`` of each other, with at least `MIN_LOOP_NODES` nodes between them either way
+    round."""
     n = len(xy)
     segs = shapely.linestrings(np.stack([xy, np.roll(xy, -1, axis=0)], axis=1))
     i, j = shapely.STRtree(segs).query(segs, predicate="dwithin", distance=gap)
     keep = (i < j) & (j - i >= MIN_LOOP_NODES) & (n - (j - i) >= MIN_LOOP_NODES)
-    return list(zip(i[keep].tolist(), j[keep].tolist()))
+    return i[keep], j[keep]
 
 
-def _smooth_arms(turn: FloatArray, i: int, j: int) -> bool:
-    """Whether the chain runs smoothly into the waist at edges i and j: the median turn of the
-    `ARM_NODES` nodes before and after each pass is at most `ARM_TURN`."""
-    before, after = np.arange(-ARM_NODES, 0), np.arange(2, 2 + ARM_NODES)
-    arms = np.concatenate([i + before, i + after, j + before, j + after]) % len(turn)
-    return bool(np.median(turn[arms]) <= ARM_TURN)
+def _smooth_arms(turn: FloatArray, i: IntArray, j: IntArray) -> np.ndarray:
+    """Whether the chain runs smoothly into the waist at each pair of edges i and j: the
+    median turn of the `ARM_NODES` nodes before and after each pass is at most `ARM_TURN`."""
+    offsets = np.concatenate([np.arange(-ARM_NODES, 0), np.arange(2, 2 + ARM_NODES)])
+    arms = np.concatenate([i[:, None] + offsets, j[:, None] + offsets], axis=1) % len(turn)
+    return np.median(turn[arms], axis=1) <= ARM_TURN
 
 
 def _apart(loops: list[FloatArray], radius: float, closing_turn: float,
