@@ -449,3 +449,20 @@ def test_bitmap_slits_whose_walls_spread_about_their_stem_close_the_outline(seed
     assert independent_problems(result) == []
     assert len(result.outliers) == 0
     assert distance_to_output(pts, result).max() <= eps * (1 + 1e-9)
+
+
+@pytest.mark.parametrize(("seed", "noise"), [(1, 1 / 3), (13, 1 / 4)])
+def test_a_walk_whose_passes_cross_in_the_noise_is_untangled(seed, noise):
+    """Silhouettes sampled with 3000 points and noise ε / 3 or ε / 4: the two passes of a
+    slit's walk, each along one wall, crossed each other where the walls' points mingle, and
+    the fit fell back to cutting the self-crossing outline into open pieces (6 and 9)."""
+    from benchmarks.silhouettes import sample, silhouette
+
+    rings = silhouette(seed)
+    eps = float(np.hypot(*np.ptp(np.vstack(rings), axis=0))) / 150
+    pts = sample(rings, 3000, noise * eps, 1000 + seed)
+    result = wavepoly.fit(pts, eps)
+    assert [c.closed for c in result.contours] == [True]
+    assert independent_problems(result) == []
+    assert len(result.outliers) == 0
+    assert distance_to_output(pts, result).max() <= eps * (1 + 1e-9)

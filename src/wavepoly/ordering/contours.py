@@ -10,6 +10,7 @@ the radius from their contour, are outliers.
 from __future__ import annotations
 
 import numpy as np
+import shapely
 from scipy.spatial import cKDTree
 
 from ..geometry import nearest_segment, nearest_site, polyline_length
@@ -159,11 +160,20 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
     # on a noisy scan (a laser map) a room's wall and a short wall meeting it are lines
     if stems and clean:
         contours = close_gaps(close_outlines(contours, pts, radius), pts, radius)
-        contours = _split_off_holes(contours, pts, radius)
+        contours = _split_off_holes(_untangled(contours), pts, radius)
         contours = join_through_mouths(rejoin_split_tips(contours, radius, pts), pts, radius)
         if any(not c.closed for c in contours):  # the outlines closed since take their tips
             contours, outliers = extend_tips(contours, outliers, pts, radius, outlier_gap)
     return contours, outliers
+
+
+def _untangled(contours: list[OrderedContour]) -> list[OrderedContour]:
+    """Closed outlines that cross themselves, untangled (`untangle`): on a noisy scan the
+    two passes of a stem's walk, each along one wall of a slit narrower than the scatter,
+    cross each other where the walls' points mingle."""
+    return [OrderedContour(untangle(c.points, True), True, c.members)
+            if c.closed and not shapely.LinearRing(c.points).is_simple else c
+            for c in contours]
 
 
 def _split_off_holes(contours: list[OrderedContour], pts: FloatArray, radius: float
