@@ -69,21 +69,15 @@ def test_a_limb_on_a_narrow_root_stays_one_ring():
     assert len(split_at_waists(ring, RADIUS)) == 1
 
 
-def test_a_neck_stays_one_ring():
-    # two lobes joined by a neck a radius wide and 4 radii long: its walls run straight
-    lobes = shapely.union_all([shapely.Point(-7, 0).buffer(5.0, quad_segs=16),
-                               shapely.Point(7, 0).buffer(5.0, quad_segs=16),
-                               shapely.box(-3.0, -0.5, 3.0, 0.5)])
-    ring = np.asarray(lobes.exterior.segmentize(STEP).coords)[:-1]
-    assert len(split_at_waists(ring, RADIUS)) == 1
-
-
-def test_a_wide_neck_stays_one_ring():
-    # two lobes joined by a neck 2 radii wide and 2 long: passes within `WAIST_GAP` of each
-    # other, but closing across them turns more than the neck's corners
-    lobes = shapely.union_all([shapely.Point(-6, 0).buffer(5.0, quad_segs=16),
-                               shapely.Point(6, 0).buffer(5.0, quad_segs=16),
-                               shapely.box(-2.0, -1.0, 2.0, 1.0)])
+@pytest.mark.parametrize(("width", "length"), [(1.0, 6.0), (2.0, 4.0)])  # the box's
+def test_a_neck_stays_one_ring(width, length):
+    # two lobes joined by a neck 1 radius wide and 4 long (its walls run straight), or 2 wide
+    # and 2 long (passes within `WAIST_GAP` of each other, but closing across them turns
+    # more than the neck's corners)
+    reach = length / 2 + 4.0  # each lobe (radius 5) overlaps the box by 1
+    lobes = shapely.union_all([shapely.Point(-reach, 0).buffer(5.0, quad_segs=16),
+                               shapely.Point(reach, 0).buffer(5.0, quad_segs=16),
+                               shapely.box(-length / 2, -width / 2, length / 2, width / 2)])
     ring = np.asarray(lobes.exterior.segmentize(STEP).coords)[:-1]
     assert len(split_at_waists(ring, RADIUS)) == 1
 

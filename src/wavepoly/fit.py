@@ -60,7 +60,8 @@ def fit(points: FloatArray, tolerance: float, *,
     relative_tolerance : threshold of the relative shape error (eq. 7) that stops the
         decomposition, or None to try a few starting levels (`auto_start_levels`) and keep the
         fewest vertices.
-    radius : neighbourhood radius of the ordering stage (default: ``tolerance``).
+    radius : neighbourhood radius of the ordering stage (default: ``tolerance``; read at half
+        of it, with a note, where it spans parts thinner than it, `order_points`).
     seed : seed of the ordering's random choices.
     progress : called as ``progress(done, total)`` after each contour.
 

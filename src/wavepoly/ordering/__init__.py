@@ -143,7 +143,8 @@ def order_points(points: FloatArray, radius: float, *, seed: int = 0, min_points
     ----------
     points : (N, 2) unorganized points.
     radius : fixed neighbourhood radius, in the points' units (the paper: about the shape
-        tolerance). Widened, with a note, when the median point spacing exceeds radius / 3.
+        tolerance). Widened, with a note, when the median point spacing exceeds radius / 3;
+        halved, with a note, where it spans parts thinner than it (`FINER_RADIUS`).
     seed : seed of the random choices (which neighbourhoods are kept when thinning).
     min_points : contours with fewer ordered points than this are treated as outliers.
     tolerance : the shape tolerance the contours will be fitted to, if any. Where it is below
