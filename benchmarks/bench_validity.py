@@ -343,8 +343,9 @@ def coarse_sweep() -> str:
         rows.append([name] + cells)
     return ("### Coarse tolerances\n\nA tolerance of a few point spacings, where a "
             "neighbourhood of the tolerance's radius may span both walls of a part thinner "
-            "than it. *Stars*: a unit disk with 5 or 7 wedge spikes 1.6 long and 0.2 or 0.35 "
-            f"wide at the disk (`benchmarks/silhouettes.py`), ε = {eps:g}, 4 samplings each; "
+            "than it. *Stars*: a unit disk with 5 or 7 wedge spikes reaching 1.5 beyond it, "
+            "0.2 or 0.35 wide where they leave it (`benchmarks/silhouettes.py`), ε = "
+            f"{eps:g}, {STAR_SEEDS} seeds each; "
             "*right*: one closed outline, valid, no outliers. The shared silhouettes "
             "(one outline each; Keyboard0 and vase have a second ring at finer tolerances) at "
             "ε a share of their diagonal: closed/open contours and outliers.\n\n"

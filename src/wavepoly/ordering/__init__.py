@@ -194,9 +194,10 @@ def order_points(points: FloatArray, radius: float, *, seed: int = 0, min_points
 
 def _finer_reading(ordering: Ordering, pts: FloatArray, radius: float, spacing: float,
                    read: Callable[..., Ordering]) -> Ordering | None:
-    """The scan read at a finer radius (`FINER_RADIUS`), where that reading is clean and
-    measures much less noise than ``ordering``, read at ``radius``; else None. Only on samples
-    with a few spacings per radius (`FINER_SPACINGS`)."""
+    """The scan read at a finer radius (`FINER_RADIUS`), where that reading is clean, measures
+    much less noise than ``ordering`` (read at ``radius``) and leaves no more points out and
+    no more contours open; else None. Only on samples with a few spacings per radius
+    (`FINER_SPACINGS`); the noise is measured before any marching."""
     finer = max(FINER_RADIUS * radius, SPACINGS_PER_RADIUS * spacing)
     if not (0 < spacing and radius <= FINER_SPACINGS * spacing
             and finer <= FINER_AT_MOST * radius):

@@ -131,9 +131,8 @@ def _angle(a: FloatArray, b: FloatArray) -> FloatArray:
 
 
 def _near_edges(xy: FloatArray, gap: float) -> tuple[IntArray, IntArray]:
-    """(i, j), i < j, in the order of i then j: edges i and j of closed chain ``xy`` within
-    ``gap`` of each other, with at least `MIN_LOOP_NODES` nodes between them either way
-    round."""
+    """(i, j), i < j: edges i and j of closed chain ``xy`` within ``gap`` of each other,
+    with at least `MIN_LOOP_NODES` nodes between them either way round."""
     n = len(xy)
     segs = shapely.linestrings(np.stack([xy, np.roll(xy, -1, axis=0)], axis=1))
     i, j = shapely.STRtree(segs).query(segs, predicate="dwithin", distance=gap)
