@@ -88,7 +88,8 @@ def _waist_split(xy: FloatArray, radius: float, holes_only: bool = False
     i, j = _near_edges(xy, WAIST_GAP * radius)
     closing = np.maximum(np.linalg.norm(xy[j] - xy[i + 1], axis=1),
                          np.linalg.norm(xy[i] - xy[(j + 1) % n], axis=1))
-    i, j = i[closing <= CLOSING_EDGE * radius], j[closing <= CLOSING_EDGE * radius]
+    short = closing <= CLOSING_EDGE * radius
+    i, j = i[short], j[short]
     old, new_i, new_j = _pass_turns(xy, i, j)
     gain = old - new_i - new_j
     keep = gain > TURN_GAIN
