@@ -1,13 +1,18 @@
-"""An outline left open across a gap its points fill closes (`wavepoly.ordering.gaps`); a
-stroke whose ends face across an empty gap stays open."""
+"""An outline left open across a gap its points fill closes (`wavepoly.ordering.gaps`), as do
+pieces of one outline whose ends pair up across such gaps; a stroke whose ends face across an
+empty gap stays open."""
 
 from __future__ import annotations
 
 import numpy as np
 import shapely
 
+import wavepoly
 from wavepoly.ordering.gaps import close_gaps
 from wavepoly.types import OrderedContour
+
+from .conftest import distance_to_output
+from .truth import independent_problems
 
 RADIUS = 0.03
 
@@ -39,6 +44,44 @@ def test_a_gap_closing_across_another_contour_stays_open():
     assert [c.closed for c in out] == [False, False]
 
 
+def test_a_ring_left_open_at_both_ends_of_two_pieces_closes_as_one():
+    # the march broke a ring in two places (a notch's tip, a stretch sparser than the
+    # radius): two pieces, each end a few radii from the other piece's end
+    pts = _circle()
+    first = OrderedContour(pts[6:294:6], False, np.arange(300))
+    second = OrderedContour(pts[306:594:6][::-1], False, np.arange(300, 600))
+    out = close_gaps([first, second], pts, RADIUS)
+    assert [c.closed for c in out] == [True]
+    assert shapely.Polygon(out[0].points).is_valid
+    assert np.array_equal(out[0].members, np.arange(600))
+
+
+def test_three_pieces_of_a_ring_close_as_one():
+    pts = _circle()
+    pieces = [OrderedContour(pts[k + 6:k + 198:6], False, np.arange(k, k + 200))
+              for k in (0, 200, 400)]
+    out = close_gaps(pieces, pts, RADIUS)
+    assert [c.closed for c in out] == [True]
+    assert shapely.Polygon(out[0].points).is_valid
+
+
+def test_two_strokes_whose_ends_face_across_empty_gaps_stay_open():
+    # two arcs of a drawing, a gap between their ends at both sides with nothing in it
+    pts = np.vstack([_circle()[6:294], _circle()[306:594]])
+    first = OrderedContour(pts[:288:6], False, np.arange(288))
+    second = OrderedContour(pts[288::6], False, np.arange(288, 576))
+    out = close_gaps([first, second], pts, RADIUS)
+    assert [c.closed for c in out] == [False, False]
+
+
+def test_pieces_whose_ends_pair_into_no_cycle_stay_open():
+    # one gap filled, the other left bare: a chain of two pieces, not a ring
+    pts = _circle()[:560]
+    first = OrderedContour(pts[6:294:6], False, np.arange(300))
+    second = OrderedContour(pts[306:554:6], False, np.arange(300, 560))
+    out = close_gaps([first, second], pts, RADIUS)
+    assert sorted(c.closed for c in out) == [False, False]
+
 
 def test_a_ring_left_open_ten_radii_short_over_its_own_points_closes():
     # at a bitmap's tail of one-pixel spurs the march stops some 10 radii short
@@ -69,3 +112,20 @@ def test_a_gap_that_cuts_the_outline_a_radius_deep_closes():
     depth = 1 - np.linalg.norm((a + b) / 2)
     assert RADIUS < depth < 1.1 * RADIUS
     assert [c.closed for c in close_gaps([piece], pts, RADIUS)] == [True]
+
+
+def test_a_silhouette_broken_at_a_notch_tip_and_a_waist_comes_out_closed():
+    """Silhouette 20 sampled exactly (1000 points, ε = 1/150 of its size): the march broke
+    its outline at the tip of the notch between two fingers and where a lobe nearly touches
+    the arm below it, two pieces each ending a few radii from the other (3 open pieces
+    before)."""
+    from benchmarks.bench_validity import SILHOUETTE_SAMPLINGS
+    from benchmarks.silhouettes import sample, silhouette
+
+    _, n, eps, noise = SILHOUETTE_SAMPLINGS[1]
+    pts = sample(silhouette(20), n, noise * eps, 1020)
+    result = wavepoly.fit(pts, eps)
+    assert [c.closed for c in result.contours] == [True]
+    assert independent_problems(result) == []
+    assert len(result.outliers) == 0
+    assert distance_to_output(pts, result).max() <= eps * (1 + 1e-9)

@@ -1,11 +1,14 @@
-"""Closing an outline that the march left open across a short gap its points fill.
+"""Closing an outline that the march left open across short gaps its points fill.
 
 On a clean scan a silhouette's outline is one closed curve, but the march can stop a few radii
 short of closing it: at a spur of a bitmap's outline one pixel wide (its two walls merge into a
 chain whose tip is a dead end), or where the outline's last stretch runs beside a stretch the
 march took before. The chain then comes out open, its two ends a few radii apart, and the gap
-between them is not empty: the outline's points run across it. A stroke of a line drawing
-whose ends come close (a C) has nothing between its ends, and stays open.
+between them is not empty: the outline's points run across it. Where the march broke the
+outline twice or more (at a notch's tip and where a lobe nearly touches the wall beside it),
+it comes out as pieces whose ends pair up across such gaps, and they close as one ring. A
+stroke of a line drawing whose ends come close (a C) has nothing between its ends, and stays
+open.
 """
 
 from __future__ import annotations
@@ -34,16 +37,20 @@ GAP_LENGTH = 10.0
 GAP_SUPPORT = 1.25
 #: Samples along the gap this many radii apart.
 GAP_STEP = 0.5
+#: Ends of other pieces looked at per end, the nearest first.
+GAP_CANDIDATES = 6
 
 
 def close_gaps(contours: list[OrderedContour], points: FloatArray, radius: float
                ) -> list[OrderedContour]:
-    """Close each open piece whose ends lie across a short gap that its points fill.
+    """Close each open piece whose ends lie across a short gap that its points fill, then
+    each cycle of open pieces whose ends pair up across such gaps.
 
-    The closed ring keeps the piece's points; where the closing edge crosses the piece near
-    the gap, the crossing is untangled (2-opt). A piece closes only when the ring is a valid
-    polygon, crosses no other contour and keeps every member as near as the open piece did
-    (or within a radius).
+    The closed ring keeps the pieces' points; where a closing edge crosses a piece near the
+    gap, the crossing is untangled (2-opt). Pieces close only when the ring is a valid
+    polygon, crosses no other contour and keeps every member as near as the open pieces did
+    (or within a radius). Two ends pair up when each is the other's nearest end (of another
+    piece) across a gap of at most `GAP_REACH` radii that points fill (`GAP_SUPPORT`).
 
     Parameters
     ----------
@@ -78,7 +85,78 @@ def close_gaps(contours: list[OrderedContour], points: FloatArray, radius: float
             continue
         if keeps_members(ring, c, points, radius):
             out[k] = OrderedContour(ring, True, c.members)
-    return out
+    return _close_cycles(out, points, radius, tree)
+
+
+def _close_cycles(contours: list[OrderedContour], points: FloatArray, radius: float,
+                  tree: cKDTree) -> list[OrderedContour]:
+    """Join open pieces end to end into one ring where their ends pair up across filled gaps
+    (`_partner_ends`) and the pairs close a cycle; under the rules of a single piece's gap."""
+    pieces = [k for k, c in enumerate(contours) if not c.closed and len(c.points) >= 2]
+    if len(pieces) < 2:
+        return contours
+    ends = np.vstack([contours[k].points[[0, -1]] for k in pieces])
+    partner = _partner_ends(ends, tree, radius)
+    others = shapely.STRtree([_line(c) for c in contours])
+    out, used = list(contours), set()
+    for cycle in _cycles(partner):
+        own = tuple(pieces[i] for i, _ in cycle)
+        ring = np.vstack([contours[pieces[i]].points[::-1 if flip else 1] for i, flip in cycle])
+        exits = [_exit_end(i, flip) for i, flip in cycle]
+        widest = np.linalg.norm(ends[exits] - ends[partner[exits]], axis=1).max()
+        if polyline_length(ring, True) < GAP_LENGTH * widest:
+            continue
+        ring = _closed_ring(ring)
+        if ring is None or meets_others(ring, own, others):
+            continue
+        if all(keeps_members(ring, contours[k], points, radius) for k in own):
+            members = np.sort(np.concatenate([contours[k].members for k in own]))
+            out[own[0]] = OrderedContour(ring, True, members)
+            used.update(own[1:])
+    return [c for k, c in enumerate(out) if k not in used]
+
+
+def _partner_ends(ends: FloatArray, tree: cKDTree, radius: float) -> np.ndarray:
+    """For each end (two per piece), the nearest end of another piece within `GAP_REACH`
+    radii across a filled gap, where that end chooses it back; else -1."""
+    k = min(GAP_CANDIDATES, len(ends))
+    dist, near = cKDTree(ends).query(ends, k=k, distance_upper_bound=GAP_REACH * radius)
+    choice = np.full(len(ends), -1)
+    for e in range(len(ends)):
+        for d, j in zip(dist[e], near[e]):
+            if not np.isfinite(d):
+                break
+            if j // 2 != e // 2 and _supported(ends[e], ends[j], tree, radius):
+                choice[e] = j
+                break
+    mutual = (choice >= 0) & (choice[np.maximum(choice, 0)] == np.arange(len(ends)))
+    return np.where(mutual, choice, -1)
+
+
+def _cycles(partner: np.ndarray) -> list[list[tuple[int, bool]]]:
+    """The cycles of pieces that the paired ends close, each a list of (piece, reversed):
+    piece i has ends 2i (its start) and 2i + 1, and is walked from the end where the walk
+    arrives to its other end."""
+    cycles, seen = [], set()
+    for start in range(len(partner) // 2):
+        if start in seen:
+            continue
+        cycle, piece, flip = [], start, False
+        while piece not in seen:
+            seen.add(piece)
+            cycle.append((piece, flip))
+            arrive = partner[_exit_end(piece, flip)]
+            if arrive < 0:
+                break
+            piece, flip = arrive // 2, arrive % 2 == 1
+        if piece == start and not flip and len(cycle) > 1:
+            cycles.append(cycle)
+    return cycles
+
+
+def _exit_end(piece: int, flip: bool) -> int:
+    """The end a piece's walk leaves it by: its last point, or its first where reversed."""
+    return 2 * piece + (0 if flip else 1)
 
 
 def keeps_members(ring: FloatArray, contour: OrderedContour, points: FloatArray,
@@ -99,12 +177,17 @@ def meets_others(ring: FloatArray, own: tuple[int, ...], others: shapely.STRtree
 
 def _filled_gap(xy: FloatArray, tree: cKDTree, radius: float) -> bool:
     """Are the piece's ends within `GAP_REACH` radii, the piece `GAP_LENGTH` times as long as
-    the gap, and points along the gap (`GAP_SUPPORT`)?"""
+    the gap, and points along the gap (`_supported`)?"""
     a, b = xy[0], xy[-1]
     gap = float(np.linalg.norm(b - a))
     if len(xy) < 4 or gap > GAP_REACH * radius or polyline_length(xy, False) < GAP_LENGTH * gap:
         return False
-    steps = max(int(np.ceil(gap / (GAP_STEP * radius))), 1)
+    return _supported(a, b, tree, radius)
+
+
+def _supported(a: FloatArray, b: FloatArray, tree: cKDTree, radius: float) -> bool:
+    """Does a point lie within `GAP_SUPPORT` radii of every sample along the gap from a to b?"""
+    steps = max(int(np.ceil(np.linalg.norm(b - a) / (GAP_STEP * radius))), 1)
     t = np.linspace(0.0, 1.0, steps + 1)[:, None]
     near, _ = tree.query(a + t * (b - a), distance_upper_bound=GAP_SUPPORT * radius)
     return bool(np.all(np.isfinite(near)))
