@@ -469,6 +469,23 @@ def test_a_slit_whose_wavelet_polygon_crosses_itself_comes_out_one_valid_outline
     assert len(result.contours[0].vertices) < 100
 
 
+def test_a_selection_crossing_the_backbone_for_many_rounds_settles_with_few_vertices():
+    """Silhouette 20 with noise ε/3: a spike of the backbone (reaching a far noise point)
+    crossed a wall's long chord, and each round forbade that chord only for the path to take
+    the next one along it. After 200 rounds the fit fell back on the backbone, 589 vertices
+    in a zigzag through the noise, where the selection had 73."""
+    from benchmarks.silhouettes import sample, silhouette
+
+    rings = silhouette(20)
+    eps = float(np.hypot(*np.ptp(np.vstack(rings), axis=0))) / 150
+    pts = sample(rings, 3000, eps / 3, 1020)
+    result = wavepoly.fit(pts, eps)
+    _valid(pts, result)
+    assert [c.closed for c in result.contours] == [True]
+    assert result.n_vertices < 100
+    assert teeth(result) <= 1
+
+
 def _figure_eight(turn_deg: float, gap: float = 0.1, spacing: float = 0.1) -> np.ndarray:
     """A closed chain round two unit circles whose outlines come ``gap`` apart, crossing from
     one to the other by the kiss: leaving each ``turn_deg`` degrees short of it."""

@@ -34,10 +34,18 @@ import numpy as np
 import shapely
 from scipy.ndimage import maximum_filter1d
 
+from .chord_validity import (
+    EXACT_ROUNDS,
+    MAX_VALIDITY_ROUNDS,
+    allow_backbone,
+    fixed_edges_met,
+    forbid,
+    forbid_across,
+    invalid_chords,
+)
 from .geometry import hull_candidates
 from .kernels import edge_distances, fewest_edges, sweep_cones
 from .types import SLACK, FloatArray, IntArray
-from .validity import bad_edges
 
 #: Angular round-off (radians) allowed when a chord's direction meets a cone's bound.
 ANGLE_SLACK = 1e-12
@@ -108,6 +116,10 @@ def select_vertices(vertices: FloatArray, vparams: FloatArray, points: FloatArra
     path, so the result is the optimum under that constraint; a crossing between two chords
     forbids both, which keeps the result valid at the cost of, rarely, a vertex. The edges of
     the ``backbone`` (the verified polygon) are never forbidden, so a path always exists.
+    Where a path still crosses after `EXACT_ROUNDS`, every chord that meets the backbone edges
+    its bad chords meet is forbidden at once (`wavepoly.chord_validity.forbid_across`), not
+    the next one of the family the following round: still valid, at the cost of a vertex or
+    two.
     ``simple=False`` (and no obstacles) gives the classic, unconstrained min-# optimum.
     """
     k = len(vertices)
@@ -128,27 +140,23 @@ def select_vertices(vertices: FloatArray, vparams: FloatArray, points: FloatArra
                                 max_span=k if closed else k - 1, periodic=closed)
     fixed: set[tuple[int, int]] = set()
     if backbone is not None and len(backbone) >= 2:
-        fixed = _allow_backbone(feasible, backbone, k, closed)
+        fixed = allow_backbone(feasible, backbone, k, closed)
     path = _best_path(feasible, k, closed)
-    for _ in range(MAX_VALIDITY_ROUNDS if simple or obstacles is not None else 0):
-        bad = _invalid_chords(vertices, path, k, closed, obstacles, fixed)
+    for rounds in range(MAX_VALIDITY_ROUNDS if simple or obstacles is not None else 0):
+        bad = invalid_chords(vertices, path, k, closed, obstacles, fixed)
         if not bad:
             break
         for a, b in bad:
-            _forbid(feasible, a, b, k, closed)
+            forbid(feasible, a, b, k, closed)
+        if rounds >= EXACT_ROUNDS:
+            forbid_across(feasible, vertices, fixed_edges_met(vertices, path, bad, k, fixed),
+                          k, closed, fixed)
         try:
             path = _best_path(feasible, k, closed)
         except RuntimeError:  # nothing valid through these candidates: the caller's fallback
             break
     keep = np.sort(path[:-1] % k) if closed else path
     return vertices[keep], vparams[keep]
-
-
-#: Rounds of forbidding the chords that break validity and solving again; each round removes
-#: every bad chord of the current path, and real contours settle within a few. A slit whose
-#: walls run closer than the tolerance for a long way took 50-200 (silhouette 13: 38 vertices,
-#: where the simple backbone the caller falls back to has 970).
-MAX_VALIDITY_ROUNDS = 200
 
 
 def _best_path(feasible: list[np.ndarray], k: int, closed: bool) -> IntArray:
@@ -168,24 +176,6 @@ def _best_path(feasible: list[np.ndarray], k: int, closed: bool) -> IntArray:
     if best is None:
         raise RuntimeError("internal error: no feasible polygon")
     return best
-
-
-def _invalid_chords(vertices: FloatArray, path: IntArray, k: int, closed: bool,
-                    obstacles: shapely.STRtree | None, fixed: set[tuple[int, int]]
-                    ) -> list[tuple[int, int]]:
-    """Chords (a, b) of ``path`` that break validity and may be forbidden."""
-    ring = path[:-1] if closed else path
-    bad = bad_edges(vertices[ring % k], closed, obstacles)
-    ends = np.column_stack([path[:-1], path[1:]])[bad]
-    return [(int(a), int(b)) for a, b in ends if (int(a) % k, int(b) - int(a)) not in fixed]
-
-
-def _forbid(feasible: list[np.ndarray], a: int, b: int, k: int, closed: bool) -> None:
-    """Mark chord (a, b) infeasible (on a closed contour, on both turns of the unrolling)."""
-    rows = (a % k, a % k + k) if closed else (a,)
-    for row in rows:
-        if row < len(feasible) and b - a - 1 < len(feasible[row]):
-            feasible[row][b - a - 1] = False
 
 
 def feasible_chords(vertices: FloatArray, vparams: FloatArray, points: FloatArray,
@@ -217,24 +207,6 @@ def _hull_of_each_gap(pts: FloatArray, prm: FloatArray, u: FloatArray
     starts = np.unique(cuts[cuts < len(prm)])
     keep = hull_candidates(pts, starts)
     return pts[keep], prm[keep]
-
-
-def _allow_backbone(feasible: list[np.ndarray], backbone: IntArray, k: int, closed: bool
-                    ) -> set[tuple[int, int]]:
-    """Mark the edges of an already verified polygon (vertex indices ``backbone``) feasible,
-    so that a path always exists; the caller verifies the choice again. Returns the edges as
-    (start vertex, span) pairs."""
-    a = backbone if not closed else np.concatenate([backbone, backbone + k])
-    b = np.roll(a, -1)[:-1]
-    a = a[:-1]
-    if closed:
-        b = np.where(b <= a, b + k, b)
-    for x, y in zip(a, b):
-        if 0 < y - x < len(feasible) - x:
-            if y - x > len(feasible[x]):  # beyond where the cone test stopped
-                feasible[x] = np.pad(feasible[x], (0, y - x - len(feasible[x])))
-            feasible[x][y - x - 1] = True
-    return {(int(x) % k, int(y - x)) for x, y in zip(a, b)}
 
 
 def _closed_starts(feasible: list[np.ndarray], k: int) -> IntArray:
