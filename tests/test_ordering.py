@@ -413,3 +413,32 @@ def test_a_small_traced_disk_with_noise_a_quarter_of_the_tolerance_is_a_clean_sa
         result = wavepoly.fit(pts, eps)
         assert [c.closed for c in result.contours] == [True]
         assert len(result.outliers) == 0
+
+
+def test_repeated_points_do_not_change_the_spacing():
+    # a scanner's repeated returns, a file merged with its copy: one sample each
+    t = np.linspace(0, 2 * np.pi, 500, endpoint=False)
+    pts = np.column_stack([np.cos(t), np.sin(t)])
+    jitter = np.random.default_rng(0).normal(0, 1e-9, pts.shape)
+    once = curve_spacing(pts)
+    assert curve_spacing(np.vstack([pts, pts, pts])) == pytest.approx(once)
+    assert curve_spacing(np.vstack([pts, pts + jitter])) == pytest.approx(once, rel=1e-6)
+
+
+@pytest.mark.parametrize("seed", [4, 20, 23])
+def test_a_silhouette_given_three_times_over_comes_out_as_given_once(seed):
+    """Silhouettes sampled exactly (1000 points, ε = 1/150 of their size): every point three
+    times halved the spacing measured, the radius was widened less, and these came out open
+    or split (each is one closed outline given once)."""
+    import wavepoly
+    from benchmarks.bench_validity import SILHOUETTE_SAMPLINGS
+    from benchmarks.silhouettes import sample, silhouette
+
+    _, n, eps, noise = SILHOUETTE_SAMPLINGS[1]
+    rings = silhouette(seed)
+    pts = sample(rings, n, noise * eps, 1000 + seed)
+    once = wavepoly.fit(pts, eps)
+    thrice = wavepoly.fit(np.vstack([pts, pts, pts]), eps)
+    assert [c.closed for c in thrice.contours] == [c.closed for c in once.contours]
+    assert len(thrice.contours) == len(rings)
+    assert thrice.validity.valid and len(thrice.outliers) == 0

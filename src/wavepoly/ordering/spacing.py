@@ -11,6 +11,11 @@ from ..types import FloatArray
 SPACING_SAMPLE = 20_000
 #: Clouds larger than twice this are first estimated from a random subset of this size.
 SPACING_SUBSET = 100_000
+#: Points closer than this share of the cloud's extent are one sample: a scanner's repeated
+#: return, a merged file's copy (float32 coordinates resolve about 6e-8 of it). Counted apart,
+#: they halved the spacing measured on a scan given three times over, and 3 of 30 silhouettes
+#: came out open that were closed once.
+DISTINCT = 1e-7
 
 
 def median_spacing(points: FloatArray, sample: int = SPACING_SAMPLE, seed: int = 0) -> float:
@@ -41,9 +46,23 @@ def spacing_bound(points: FloatArray, seed: int, subset: int = SPACING_SUBSET) -
 
 
 def _neighbour_distance(points: FloatArray, k: int, sample: int, seed: int) -> float:
+    points = distinct(points)
     tree = cKDTree(points)
     rng = np.random.default_rng(seed)
     probe = points if len(points) <= sample else points[rng.choice(len(points), sample, False)]
     dist, _ = tree.query(probe, k=min(k + 1, len(points)))
     kth = dist[:, -1][np.isfinite(dist[:, -1]) & (dist[:, -1] > 0)]
     return float(np.median(kth)) if len(kth) else 0.0
+
+
+def distinct(points: FloatArray) -> FloatArray:
+    """The points with those closer than `DISTINCT` x the cloud's extent to one another kept
+    once (snapped to a grid of that size, so that repeats count as one sample)."""
+    if len(points) < 2:
+        return points
+    extent = float(np.ptp(points, axis=0).max())
+    if extent <= 0:
+        return points[:1]
+    cells = np.floor((points - points.min(axis=0)) / (DISTINCT * extent)).astype(np.int64)
+    _, first = np.unique(cells, axis=0, return_index=True)
+    return points[np.sort(first)]
