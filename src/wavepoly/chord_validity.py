@@ -54,6 +54,9 @@ def forbid_across(feasible: list[np.ndarray], vertices: FloatArray, edges: Float
     spans = np.concatenate([np.flatnonzero(f) + 1 for f in feasible] or [np.zeros(0, int)])
     rows = rows[np.concatenate(feasible).astype(bool)] if len(rows) else rows
     a, b = vertices[rows % k], vertices[(rows + spans) % k]
+    lo, hi = edges.min(axis=(0, 1)), edges.max(axis=(0, 1))
+    near = np.all((np.minimum(a, b) <= hi) & (np.maximum(a, b) >= lo), axis=1)
+    rows, spans, a, b = rows[near], spans[near], a[near], b[near]  # the rest miss every edge
     tree = shapely.STRtree(shapely.linestrings(edges))
     chord, edge = tree.query(shapely.linestrings(np.stack([a, b], axis=1)),
                              predicate="intersects")
