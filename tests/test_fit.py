@@ -284,3 +284,22 @@ def test_below_the_scatter_a_contour_left_without_points_goes():
     kept, beyond = beyond_the_tolerance(pts, ordering, 0.1)
     assert kept.contours == [] and beyond.tolist() == list(range(80))
     assert kept.outliers.tolist() == list(range(80))
+
+
+@pytest.mark.parametrize("seed", [16, 20])
+@pytest.mark.parametrize("offset", [5.12e6, 5.12e9])
+def test_points_far_from_the_origin_fit_as_near_it(seed, offset):
+    """Silhouettes (1000 exact points, ε = 1/150 of their size) moved 5e6 and 5e9 from the
+    origin, as GIS coordinates (a UTM northing, or the same in mm) lie: at 5e9 a tolerance
+    of 0.0067 is some 7000 float steps, and these two came out open or split."""
+    from benchmarks.bench_validity import SILHOUETTE_SAMPLINGS
+    from benchmarks.silhouettes import sample, silhouette
+
+    _, n, eps, noise = SILHOUETTE_SAMPLINGS[1]
+    pts = sample(silhouette(seed), n, noise * eps, 1000 + seed)
+    near = wavepoly.fit(pts, eps)
+    far = wavepoly.fit(pts + offset, eps)
+    assert [c.closed for c in far.contours] == [c.closed for c in near.contours] == [True]
+    assert far.validity.valid and len(far.outliers) == 0
+    # measured where the user's tools measure it, up to the float steps there (1e-6 at 5e9)
+    assert distance_to_output(pts + offset, far).max() <= eps + 1e-5
