@@ -396,6 +396,19 @@ def test_fish_and_bottle_at_a_tolerance_below_their_scatter(shared_data, name, c
     assert len(again.outliers) <= 0.03 * len(pts)
 
 
+def test_a_fish_whose_fins_spread_like_a_halo_keeps_them(shared_data):
+    """fish.txt at 0.71, some 3 times its scatter: over a neighbourhood its fins spread
+    twice as wide as its scatter, as a halo about a thin core does, and the curve ran through
+    the middle, listing the head and tail fins as outliers (253 of 1000 points). No core
+    holds the points, so the outline follows the fins."""
+    pts = wavepoly.read_points(shared_data / "curves2d" / "noisy_sets" / "fish.txt")
+    res = wavepoly.fit(pts, 0.71)
+    _valid(pts, res)
+    assert [c.closed for c in res.contours] == [True]
+    assert len(res.outliers) <= 0.01 * len(pts)
+    assert res.suggested_tolerance is None
+
+
 def _drawn_length(result):
     return sum((shapely.Polygon(c.vertices).length if c.closed
                 else shapely.LineString(c.vertices).length) for c in result.contours)
