@@ -201,7 +201,7 @@ def _tolerance_notes(tolerance: float, ordering: Ordering, beyond: int
     spread = max(ordering.noise, ordering.scatter)
     suggested = _two_digits_up(NOISE_MARGIN * spread)
     bell = below_the_bell(tolerance, ordering.noise, ordering.scatter)
-    if tolerance < NOISE_NOTE * ordering.scatter or bell:
+    if not _halo_only(tolerance, ordering):
         factor, scale = (NOISE_NOTE, ordering.scatter) if not bell else (BELL_MARGIN, spread)
         return suggested, [
             f"the tolerance {tolerance:.4g} is below {factor:g} x the scatter about the "
