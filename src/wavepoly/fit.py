@@ -77,6 +77,11 @@ def fit(points: FloatArray, tolerance: float, *,
     Returns
     -------
     `FitResult`; closed contours are counter-clockwise, their holes clockwise.
+
+    Notes
+    -----
+    Points farther from the origin than `FAR_FROM_ORIGIN` x their extent (GIS coordinates)
+    are fitted about their own centre, and the contours shifted back.
     """
     pts = validate_points(points, source="points", min_points=3)
     if pts.shape[1] != 2:
@@ -182,8 +187,8 @@ def _shifted(result: FitResult, origin: FloatArray) -> FitResult:
 
 
 def _halo_only(tolerance: float, ordering: Ordering) -> bool:
-    """Whether the curves run through the middle only as of a halo about a thin core: the
-    tolerance is not below the points' own scatter nor a bell of noise
+    """Whether the curves run through the middle only because of a halo about a thin core:
+    the tolerance is not below the points' own scatter nor a bell of noise
     (`wavepoly.ordering.noise.runs_through_the_middle`)."""
     return not (tolerance < NOISE_NOTE * ordering.scatter
                 or below_the_bell(tolerance, ordering.noise, ordering.scatter))
