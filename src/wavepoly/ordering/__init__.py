@@ -74,7 +74,7 @@ from .marching import (
 )
 from .neighbourhoods import Nodes, nodes_with_points, perpendicular_kurtosis
 from .noise import noise_adaptive_nodes, noise_at, runs_through_the_middle
-from .spacing import curve_spacing, median_spacing, spacing_bound
+from .spacing import SPACING_SUBSET, curve_spacing, median_spacing, spacing_bound
 from .strokes import stroke_contours
 from .walls import split_two_walls
 
@@ -169,8 +169,8 @@ def order_points(points: FloatArray, radius: float, *, seed: int = 0, min_points
     radius = given = check_tolerance(radius, "radius")
     notes = []
     spacing = spacing_bound(pts, seed)
-    if spacing > radius / SPACINGS_PER_RADIUS:
-        spacing = curve_spacing(pts, seed=seed)
+    if spacing > radius / SPACINGS_PER_RADIUS and len(pts) > 2 * SPACING_SUBSET:
+        spacing = curve_spacing(pts, seed=seed)  # the bound was a subset's estimate
     if spacing > radius / SPACINGS_PER_RADIUS:
         new_radius = SPACINGS_PER_RADIUS * spacing
         notes.append(f"radius widened from {radius:.4g} to {new_radius:.4g}: the point spacing "
