@@ -125,6 +125,56 @@ def test_carmen_synthetic(tmp_path):
     assert len(pts) == 4
 
 
+def _robotlaser(ranges, start, resolution, limit, pose, remissions=0):
+    """A ROBOTLASER1 line: SICK type 0, ``ranges`` from ``start`` by ``resolution``."""
+    values = " ".join(f"{r:g}" for r in ranges)
+    rem = " ".join(["0.5"] * remissions)
+    return (f"ROBOTLASER1 0 {start:.9f} {resolution * len(ranges):.9f} {resolution:.9f} "
+            f"{limit:g} 0.01 0 {len(ranges)} {values} {remissions} {rem} "
+            f"{pose[0]} {pose[1]} {pose[2]} 0 0 0 0 0 0 0 0 1.0 host 1.0\n")
+
+
+def test_carmen_robotlaser_takes_its_own_field_of_view(tmp_path):
+    """A 270 degree scanner's ROBOTLASER1 line: beam i at start + i * resolution about the
+    laser's heading; returns at the line's range limit are no-returns."""
+    step = np.radians(135.0)
+    line = _robotlaser([1.0, 2.0, 30.0], -step, step, 30.0, (1.0, 2.0, np.pi / 2), 3)
+    path = tmp_path / "s.clf"
+    path.write_text("PARAM robot_use_laser on\n" + line)
+    pts = read_points(path)
+    # heading +90 degrees: beams at -45 and +90 degrees from (1, 2); the third is at the limit
+    np.testing.assert_allclose(pts, [[1 + np.sqrt(0.5), 2 - np.sqrt(0.5)], [1.0, 4.0]],
+                               atol=1e-6)
+
+
+def test_carmen_log_with_both_kinds_reads_each_scan_once(tmp_path):
+    """A converted log keeps FLASER lines beside ROBOTLASER1: the scans are placed once."""
+    flaser = "FLASER 3 1.0 1.0 1.0 0.0 0.0 0.0 0 0 0 0 host 0\n"
+    robot = _robotlaser([1.0, 1.0, 1.0], -np.pi / 2, np.pi / 2, 80.0, (0.0, 0.0, 0.0))
+    path = tmp_path / "both.clf.gz"
+    with gzip.open(path, "wt") as fh:
+        fh.write((flaser + robot) * 2)
+    pts = read_points(path)
+    assert len(pts) == 6
+    np.testing.assert_allclose(pts[:3], [[0.0, -1.0], [1.0, 0.0], [0.0, 1.0]], atol=1e-6)
+
+
+@pytest.mark.parametrize("line, message", [
+    ("FLASER 180 1.0 2.0 3.0 0 0 0\n", "line 2: FLASER says 180 values, but the line is too short"),
+    ("FLASER x 1.0\n", "line 2: FLASER has no reading count"),
+    ("FLASER 3 1.0 2.0 abc 0 0 0 0 0 0\n", "line 2: 'abc' is not a number"),
+    ("FLASER 3 1.0 2.0 3.0 nan 0 0 0 0 0\n", "line 2: a reading or the pose is not finite"),
+    ("ROBOTLASER1 0 -1.5 3.1 1.0 80 0.01 0 3 1 1 1 5 0.5\n",
+     "line 2: ROBOTLASER1 says 5 values, but the line is too short"),
+    ("ODOM 0 0 0 0 0 0\n", "has no FLASER or ROBOTLASER1 lines"),
+])
+def test_carmen_lines_that_lie_are_refused_by_line(tmp_path, line, message):
+    path = tmp_path / "bad.log"
+    path.write_text("# a CARMEN log\n" + line)
+    with pytest.raises(DataError, match=message):
+        read_points(path)
+
+
 @pytest.mark.parametrize("content, message", [
     ("", "no numeric rows"),
     ("# only a comment\n", "no numeric rows"),

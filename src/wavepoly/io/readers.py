@@ -6,7 +6,6 @@ The format is chosen from the file extension unless ``fmt`` names it. Each reade
 
 from __future__ import annotations
 
-import gzip
 import re
 import warnings
 from collections.abc import Callable, Sequence
@@ -17,8 +16,10 @@ import numpy as np
 from ..errors import DataError
 from ..types import FloatArray
 from ..validate import validate_points
+from .carmen import CARMEN_SUFFIXES, read_carmen
 from .pcd import read_pcd
 from .streams import is_stream, stream_as_path
+from .text import MAX_LINE, bounded_lines, no_columns, open_text, snippet
 
 TEXT_FORMATS = ("xyz", "xy", "txt", "csv", "pts", "p2d", "gtn", "xym", "asc")
 FORMATS = (*TEXT_FORMATS, "npy", "ply", "las", "laz", "pcd", "obj", "off", "carmen", "conf")
@@ -28,14 +29,16 @@ _SPLIT = re.compile(r"[,\s;]+")
 
 
 def detect_format(path: str | Path) -> str:
-    """The format name for ``path`` from its extension (``.log``, ``.log.gz``: CARMEN logs)."""
+    """The format name for ``path`` from its extension (``.log``, ``.clf``, gzipped or not:
+    CARMEN logs)."""
     name = Path(path).name.lower()
-    if name.endswith((".log", ".log.gz")):
+    if name.endswith(CARMEN_SUFFIXES):
         return "carmen"
     ext = name.rsplit(".", 1)[-1] if "." in name else ""
     if ext in FORMATS:
         return ext
-    raise DataError(f"{path}: unknown point format '.{ext}' (known: {', '.join(FORMATS)}, log)")
+    raise DataError(f"{path}: unknown point format '.{ext}' "
+                    f"(known: {', '.join(FORMATS)}, log, clf)")
 
 
 def read_points(
@@ -126,8 +129,8 @@ def _read_text(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndar
         return fast
     rows: list[list[str]] = []
     header_seen = False
-    with _open_text(path) as fh:
-        for lineno, raw in enumerate(_bounded_lines(fh, path), 1):
+    with open_text(path) as fh:
+        for lineno, raw in enumerate(bounded_lines(fh, path), 1):
             line = raw.split("#", 1)[0].strip()
             if not line:
                 continue
@@ -140,7 +143,7 @@ def _read_text(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndar
                 if not rows and not header_seen:
                     header_seen = True  # one header line (e.g. 'x,y,z') is allowed
                     continue
-                raise DataError(f"{path}: line {lineno} is not numeric: {_snippet(line)}")
+                raise DataError(f"{path}: line {lineno} is not numeric: {snippet(line)}")
             rows.append(tokens)
     if not rows:
         raise DataError(f"{path}: contains no numeric rows")
@@ -152,23 +155,6 @@ def _read_text(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndar
     width = min(len(r) for r in rows)
     table = np.array([r[:width] for r in rows], dtype=np.float64)
     return _select_columns(table, fmt, columns, path)
-
-
-#: Longest text line read (bytes): a point row is a few dozen; a longer "line" is not a table
-#: (a binary file, or a file of one endless line) and would otherwise be held whole.
-MAX_LINE = 65536
-
-
-def _bounded_lines(fh, path: Path):
-    """The lines of a text file, refusing any longer than `MAX_LINE`."""
-    while True:
-        line = fh.readline(MAX_LINE + 1)
-        if not line:
-            return
-        if len(line) > MAX_LINE and not line.endswith("\n"):
-            raise DataError(f"{path}: a line is longer than {MAX_LINE} characters; "
-                            "not a table of points")
-        yield line
 
 
 #: Bytes scanned at a time for the longest line before the fast parse.
@@ -236,12 +222,6 @@ def _longest_line(path: Path) -> int:
     return max(longest, run)
 
 
-def _snippet(text: str, size: int = 24) -> str:
-    """A short, escaped quote of offending input, never more of a file than that."""
-    short = text if len(text) <= size else text[:size] + "..."
-    return repr(short)
-
-
 def _check_count_header(rows: list[list[str]], path: Path) -> None:
     """A .gtn's first row says how many points follow: it must say so truthfully."""
     try:
@@ -267,12 +247,6 @@ def _is_number(token: str) -> bool:
     except ValueError:
         return False
     return True
-
-
-def _open_text(path: Path):
-    if path.name.lower().endswith(".gz"):
-        return gzip.open(path, "rt", encoding="utf-8", errors="strict")
-    return open(path, encoding="utf-8", errors="strict")
 
 
 def _read_npy(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndarray:
@@ -305,12 +279,6 @@ def _named_columns(names: list[str], columns: tuple[int, ...], path: Path, what:
         raise DataError(f"{path}: asked for column {max(columns)} but the file has "
                         f"{len(names)} {what} ({' '.join(names)})")
     return [names[c] for c in columns]
-
-
-def _no_columns(path: Path, fmt: str, columns: tuple[int, ...] | None, what: str) -> None:
-    """Formats without columns to choose: say so rather than ignore ``--columns``."""
-    if columns is not None:
-        raise DataError(f"{path}: --columns does not apply to .{fmt} files ({what})")
 
 
 #: Sizes of the LAS public header's fields that locate the rest, and of a VLR's header.
@@ -355,9 +323,9 @@ def _read_las(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndarr
 def _read_obj(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndarray:
     """Every 'v' line of a Wavefront OBJ: a scan's points are vertices that no face uses, and
     trimesh's OBJ loader (which `read_mesh` uses for the faces) drops those."""
-    _no_columns(path, fmt, columns, "its vertices are x y z")
+    no_columns(path, fmt, columns, "its vertices are x y z")
     rows = []
-    with _open_text(path) as fh:
+    with open_text(path) as fh:
         for line in fh:
             if line.startswith("v "):
                 rows.append(line.split()[1:4])
@@ -367,8 +335,8 @@ def _read_obj(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndarr
 
 
 def _read_off(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndarray:
-    _no_columns(path, fmt, columns, "its vertices are x y z")
-    with _open_text(path) as fh:
+    no_columns(path, fmt, columns, "its vertices are x y z")
+    with open_text(path) as fh:
         lines = [ln.split("#", 1)[0].split() for ln in fh]
     lines = [ln for ln in lines if ln]
     if not lines or not lines[0][0].endswith("OFF"):
@@ -382,35 +350,6 @@ def _read_off(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndarr
     return np.array(rows, dtype=np.float64)
 
 
-def _read_carmen(path: Path, fmt: str, columns: tuple[int, ...] | None,
-                 max_range: float | None = None) -> np.ndarray:
-    """CARMEN log: every ``FLASER n r1..rn x y theta ...`` line becomes world points.
-
-    Beams span -90 deg .. +90 deg about the laser heading theta; readings at the sensor's maximum
-    (the largest range found in the log) and non-positive ones are no-returns and are dropped.
-    """
-    _no_columns(path, fmt, columns, "laser beams turned into points by their poses")
-    ranges, poses = [], []
-    with _open_text(path) as fh:
-        for line in _bounded_lines(fh, path):
-            if not line.startswith("FLASER"):
-                continue
-            tokens = line.split()
-            n = int(tokens[1])
-            ranges.append(np.array(tokens[2:2 + n], dtype=np.float64))
-            poses.append(np.array(tokens[2 + n:5 + n], dtype=np.float64))
-    if not ranges:
-        raise DataError(f"{path}: CARMEN log has no FLASER lines")
-    out = []
-    limit = max(float(r.max()) for r in ranges) if max_range is None else max_range
-    for r, (x, y, theta) in zip(ranges, poses):
-        angles = theta + np.linspace(-np.pi / 2, np.pi / 2, len(r))
-        keep = (r > 0) & (r < limit - 1e-6)
-        out.append(np.column_stack([x + r[keep] * np.cos(angles[keep]),
-                                    y + r[keep] * np.sin(angles[keep])]))
-    return np.concatenate(out)
-
-
 def _read_conf(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndarray:
     """Aligned range scans (Stanford ``.conf``): every ``bmesh FILE tx ty tz qx qy qz qw`` line.
 
@@ -418,12 +357,12 @@ def _read_conf(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndar
     91 % of bun045's points within 1 mm of bun000's, against 0.3 % for R(q) p + t). Scans named
     in the file but absent are skipped with a warning; none present is an error.
     """
-    _no_columns(path, fmt, columns, "range scans of x y z, placed by their poses")
+    no_columns(path, fmt, columns, "range scans of x y z, placed by their poses")
     from scipy.spatial.transform import Rotation
 
     out, missing = [], []
-    with _open_text(path) as fh:
-        lines = list(_bounded_lines(fh, path))
+    with open_text(path) as fh:
+        lines = list(bounded_lines(fh, path))
     folder = path.parent.resolve()
     for line in lines:
         tokens = line.split()
@@ -431,11 +370,11 @@ def _read_conf(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndar
             continue
         scan = (path.parent / tokens[1]).resolve()
         if folder not in scan.parents:
-            raise DataError(f"{path}: scan {_snippet(tokens[1])} is not in the .conf's folder "
+            raise DataError(f"{path}: scan {snippet(tokens[1])} is not in the .conf's folder "
                             "(scans must lie in it or below it)")
         if scan.suffix.lower() == ".conf":
             raise DataError(f"{path}: a .conf may not name another .conf "
-                            f"({_snippet(tokens[1])})")
+                            f"({snippet(tokens[1])})")
         if not scan.exists():
             missing.append(tokens[1])
             continue
@@ -454,7 +393,7 @@ def _read_conf(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndar
 
 _READERS: dict[str, Callable[[Path, str, tuple[int, ...] | None], np.ndarray]] = {
     "npy": _read_npy, "ply": _read_ply, "las": _read_las, "laz": _read_las, "pcd": read_pcd,
-    "obj": _read_obj, "off": _read_off, "carmen": _read_carmen, "conf": _read_conf,
+    "obj": _read_obj, "off": _read_off, "carmen": read_carmen, "conf": _read_conf,
 }
 
 
