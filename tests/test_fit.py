@@ -195,14 +195,14 @@ def test_a_tolerance_larger_than_the_points_gives_one_segment():
 def test_pieces_of_a_split_contour_share_its_points_in_the_summary_and_the_mean():
     from dataclasses import replace
 
-    from wavepoly.fit import _split_crossings
     from wavepoly.io.report import fit_summary
+    from wavepoly.pieces import split_crossings
     from wavepoly.types import Contour, ContourReport, FitResult
 
     square = np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]])
     report = ContourReport(500, 60, True, 2, 6, 4, {4: 1}, 12, 4, 0.01, 0.004)
     contours = [Contour(square, True, 0.01, 0.004), Contour(square + 1.0, True, 0.01, 0.004)]
-    pieces, reports = _split_crossings(contours, [report, replace(report, input_points=300)])
+    pieces, reports = split_crossings(contours, [report, replace(report, input_points=300)])
     assert len(pieces) > 2 and all(not c.closed for c in pieces)
     firsts = {r.first_piece for r in reports}
     assert firsts == {0, next(k for k, r in enumerate(reports) if r.input_points == 300)}

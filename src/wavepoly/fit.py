@@ -22,6 +22,7 @@ from .junctions import meet_at_junctions
 from .levels import decompose_contour
 from .ordering import SPACINGS_PER_RADIUS, order_points
 from .ordering.noise import BELL_MARGIN, NOISE_MARGIN, NOISE_NOTE, below_the_bell
+from .pieces import noded_contours, split_crossings
 from .reconstruction import reconstruct_contour
 from .stubs import STUB_LENGTH, redundant_stubs
 from .types import (
@@ -38,7 +39,7 @@ from .types import (
     within,
 )
 from .validate import check_relative_tolerance, check_tolerance, column_bounds, validate_points
-from .validity import check_contours, obstacle_tree, split_at_crossings_of, without_repeats
+from .validity import check_contours, obstacle_tree, without_repeats
 
 STAGES = ("ordering", "decomposition", "reconstruction", "verification")
 #: Points farther from the origin than this many times their extent are fitted about their own
@@ -132,7 +133,10 @@ def fit(points: FloatArray, tolerance: float, *,
     t0 = time.perf_counter()
     validity = check_contours(contours)
     if not validity.valid:  # the fallback: junctions where polygons still cross
-        contours, reports = _split_crossings(contours, reports)
+        contours, reports = split_crossings(contours, reports)
+        validity = check_contours(contours)
+    if not validity.valid:  # folds and overlaps, which meet along a stretch, not at a point
+        contours, reports = noded_contours(contours, reports, validity)
         validity = check_contours(contours)
     n_before = len(contours)
     contours, reports, stub_error = _without_stubs(pts, ordering.outliers, contours, reports,
@@ -286,21 +290,6 @@ def _one_segment(points: FloatArray, tolerance: float) -> FitResult | None:
     return FitResult([contour], tolerance, contour.max_error, contour.mean_error,
                      np.empty(0, dtype=np.intp), len(points), [-1], notes=(note,),
                      validity=check_contours([contour]))
-
-
-def _split_crossings(contours: list[Contour], reports: list[ContourReport]
-                     ) -> tuple[list[Contour], list[ContourReport]]:
-    """Contours that still cross, split at the crossing points into open pieces that meet
-    there (a junction): the lines drawn are the same, so every point keeps its distance."""
-    pieces = split_at_crossings_of([c.vertices for c in contours], [c.closed for c in contours])
-    out_c, out_r = [], []
-    for k, (c, r) in enumerate(zip(contours, reports)):
-        first = len(out_c)
-        for xy in pieces.get(k, [c.vertices]):
-            out_c.append(Contour(xy, c.closed and k not in pieces, c.max_error, c.mean_error))
-            out_r.append(r if k not in pieces else replace(
-                r, closed=False, final_vertices=len(xy), first_piece=first))
-    return out_c, out_r
 
 
 def _without_stubs(points: FloatArray, outliers: IntArray, contours: list[Contour],

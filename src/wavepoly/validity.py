@@ -286,6 +286,22 @@ def _crossing_cuts(chains: list[FloatArray], closed: list[bool], between_only: b
     return cuts
 
 
+def noded_pieces(lines: list[FloatArray], closed: list[bool]) -> list[FloatArray]:
+    """The linework of ``lines`` cut wherever two of its edges meet, a stretch drawn twice
+    (an edge folding back over another, which `split_at_crossings_of` cannot cut at one
+    point) drawn once, then joined again through every point where only two pieces meet.
+
+    The pieces draw the same point set, so every point keeps its distance to them; they
+    meet only at their end points, and each is simple (one whose ends meet is a loop).
+    """
+    geoms = [shapely.linestrings(np.vstack([xy, xy[:1]]) if c and len(xy) >= 3 else xy)
+             for xy, c in zip(lines, closed) if len(xy) >= 2]
+    merged = shapely.line_merge(shapely.unary_union(geoms))
+    pieces = [without_repeats(shapely.get_coordinates(g), False)
+              for g in shapely.get_parts(merged)]
+    return [p for p in pieces if len(p) >= 2]
+
+
 def _line_crossing(a0: FloatArray, a1: FloatArray, b0: FloatArray, b1: FloatArray
                    ) -> FloatArray | None:
     """Where two segments that meet do so: a shared end point exactly, else the crossing of
