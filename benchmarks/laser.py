@@ -18,6 +18,10 @@ from shapely import affinity
 #: Beams per scan over the scanner's 180 degrees, and its range (m).
 BEAMS = 181
 MAX_RANGE = 8.0
+#: A long-range scanner (m, beams over 180 degrees): at 30 m the heading error alone moves a
+#: return 0.16 m, so a far wall comes out as a sparse band as wide as a thin wall.
+FAR_RANGE = 30.0
+FAR_BEAMS = 361
 #: Range noise (m), and the pose error scan matching leaves (m, degrees).
 RANGE_NOISE = 0.01
 POSE_NOISE = 0.02
@@ -99,8 +103,10 @@ def _walk(path: np.ndarray, space: shapely.Geometry) -> np.ndarray:
     return poses[inside]
 
 
-def scan(space: shapely.Geometry, poses: np.ndarray, seed: int) -> np.ndarray:
-    """The laser hits from every pose: the first surface along each beam, within range."""
+def scan(space: shapely.Geometry, poses: np.ndarray, seed: int, max_range: float = MAX_RANGE,
+         beams: int = BEAMS) -> np.ndarray:
+    """The laser hits from every pose: the first surface along each of ``beams`` beams over
+    180 degrees, within ``max_range``."""
     rng = np.random.default_rng(seed)
     a, b = _segments(space)
     hits = []
@@ -108,11 +114,11 @@ def scan(space: shapely.Geometry, poses: np.ndarray, seed: int) -> np.ndarray:
         people = _people(rng, space, x, y) if rng.uniform() < PEOPLE else None
         pa, pb = (a, b) if people is None else (np.vstack([a, people[0]]),
                                                 np.vstack([b, people[1]]))
-        angles = heading + np.radians(np.linspace(-90, 90, BEAMS))
+        angles = heading + np.radians(np.linspace(-90, 90, beams))
         d = np.column_stack([np.cos(angles), np.sin(angles)])
         r = _first_hit(np.array([x, y]), d, pa, pb)
         r = r + rng.normal(0, RANGE_NOISE, len(r))
-        ok = r < MAX_RANGE
+        ok = r < max_range
         # what the map shows: the hits placed from the pose scan matching estimated
         ex, ey = x + rng.normal(0, POSE_NOISE), y + rng.normal(0, POSE_NOISE)
         eh = angles[ok] + np.radians(rng.normal(0, HEADING_NOISE))
@@ -156,8 +162,11 @@ def _first_hit(origin: np.ndarray, directions: np.ndarray, a: np.ndarray, b: np.
     return np.where(hit, t, np.inf).min(axis=1)
 
 
-def laser_map(seed: int) -> tuple[np.ndarray, shapely.Geometry]:
+def laser_map(seed: int, max_range: float = MAX_RANGE, beams: int = BEAMS
+              ) -> tuple[np.ndarray, shapely.Geometry]:
     """The points of made-up laser map ``seed`` and the true surfaces (the free space's
-    boundary) they were measured from."""
+    boundary) they were measured from, by a scanner of ``beams`` beams reaching
+    ``max_range`` (`FAR_RANGE`, `FAR_BEAMS`: the far walls' returns sparse, and spread by
+    the heading error over a band as wide as a thin wall)."""
     space, poses = floor(seed)
-    return scan(space, poses, seed), shapely.boundary(space)
+    return scan(space, poses, seed, max_range, beams), shapely.boundary(space)

@@ -22,7 +22,7 @@ from .junctions import meet_at_junctions
 from .levels import decompose_contour
 from .ordering import SPACINGS_PER_RADIUS, order_points
 from .ordering.noise import BELL_MARGIN, NOISE_MARGIN, NOISE_NOTE, below_the_bell
-from .pieces import noded_contours, split_crossings
+from .pieces import join_at_ends, noded_contours, split_crossings
 from .reconstruction import reconstruct_contour
 from .stubs import STUB_LENGTH, redundant_stubs
 from .types import (
@@ -141,10 +141,13 @@ def fit(points: FloatArray, tolerance: float, *,
     n_before = len(contours)
     contours, reports, stub_error = _without_stubs(pts, ordering.outliers, contours, reports,
                                                    tolerance)
+    n_stubs = n_before - len(contours)
     contours, grown = meet_at_junctions(contours, tolerance)
     for k in grown:
         reports[k] = replace(reports[k], final_vertices=len(contours[k].vertices))
-    if len(contours) < n_before or grown:  # the counts, or the junctions, change
+    n_pieces = len(contours)
+    contours, reports = join_at_ends(contours, reports)
+    if n_stubs or grown or len(contours) < n_pieces:  # the counts, or the junctions, change
         validity = check_contours(contours)
     outliers, covered_error = _outliers_left(pts, ordering.outliers, contours, tolerance)
     parents = nest_contours(contours)
@@ -157,8 +160,8 @@ def fit(points: FloatArray, tolerance: float, *,
                 if once) / n_members if n_members else 0.0)
     timings["verification"] += time.perf_counter() - t0
     notes = list(ordering.notes)
-    if len(contours) < n_before:
-        notes.append(f"{n_before - len(contours)} open stub(s) shorter than {STUB_LENGTH:g} x "
+    if n_stubs:
+        notes.append(f"{n_stubs} open stub(s) shorter than {STUB_LENGTH:g} x "
                      "the tolerance left out: other contours hold their points within it")
     if not contours:
         notes.append("no contour found: every point is an outlier at this radius")

@@ -7,10 +7,15 @@ Two ways remain for a result to break it: contours that cross at a point (two wa
 at a T, read as chains that run past each other), cut there (`split_crossings`); and pieces
 that meet along a stretch (a piece folding back over itself, an open piece drawn along a
 ring), whose linework is noded (`noded_contours`).
+
+Cutting leaves pieces that meet end to end where nothing else passes (the other contour of
+a crossing left out as a stub, one wall cut where a second crossed it): they are one line,
+and are joined again (`join_at_ends`), into a ring where they close one.
 """
 
 from __future__ import annotations
 
+from collections import Counter
 from dataclasses import replace
 
 import numpy as np
@@ -18,11 +23,11 @@ import shapely
 
 from .geometry import curve_line
 from .types import Contour, ContourReport, FloatArray, Validity
-from .validity import noded_pieces, split_at_crossings_of
+from .validity import JUNCTION_SLACK, check_contours, noded_pieces, split_at_crossings_of
 
 
 def split_crossings(contours: list[Contour], reports: list[ContourReport]
-                     ) -> tuple[list[Contour], list[ContourReport]]:
+                    ) -> tuple[list[Contour], list[ContourReport]]:
     """Contours that still cross, split at the crossing points into open pieces that meet
     there (a junction): the lines drawn are the same, so every point keeps its distance."""
     pieces = split_at_crossings_of([c.vertices for c in contours], [c.closed for c in contours])
@@ -37,7 +42,7 @@ def split_crossings(contours: list[Contour], reports: list[ContourReport]
 
 
 def noded_contours(contours: list[Contour], reports: list[ContourReport], validity: Validity
-           ) -> tuple[list[Contour], list[ContourReport]]:
+                   ) -> tuple[list[Contour], list[ContourReport]]:
     """The contours that still break validity (an open piece folding back over itself, two
     pieces drawn along one stretch), each group of those that meet replaced by the pieces of
     its noded linework (`wavepoly.validity.noded_pieces`): the same lines, so every point
@@ -92,3 +97,126 @@ def _problem_groups(validity: Validity, n: int) -> list[list[int]]:
     for k in sorted(named):
         groups.setdefault(root(k), []).append(k)
     return list(groups.values())
+
+
+def join_at_ends(contours: list[Contour], reports: list[ContourReport]
+                 ) -> tuple[list[Contour], list[ContourReport]]:
+    """Open pieces whose ends meet two by two where no other contour passes, joined into one
+    piece, or into a closed ring where they close one and it is a valid polygon. The lines
+    drawn are the same; a join that would break validity is not made. The points of the
+    contours joined are counted once, at the joined contour's first piece."""
+    joins = _end_joins(contours)
+    if not joins:
+        return contours, reports
+    chains = _chains(joins, [k for k, c in enumerate(contours) if not c.closed])
+    joined = {k for chain, _ in chains for k, _ in chain}
+    out = [c for k, c in enumerate(contours) if k not in joined]
+    made = [_joined_contour(contours, chain, ring) for chain, ring in chains]
+    problems = check_contours(out + made).problems
+    bad = {k - len(out) for p in problems for k in p.contours if k >= len(out)}
+    if bad:  # a join that breaks validity (a ring touching another) is not made
+        chains = [ch for i, ch in enumerate(chains) if i not in bad]
+        made = [m for i, m in enumerate(made) if i not in bad]
+    return _with_reports(contours, reports, chains, made)
+
+
+def _end_joins(contours: list[Contour]) -> dict[tuple[int, int], tuple[int, int]]:
+    """For each open end (contour, 0 start or 1 end) that shares its point with exactly one
+    other open end and with no other contour, that other end."""
+    opens = [k for k, c in enumerate(contours) if not c.closed and len(c.vertices) >= 2]
+    if not opens:
+        return {}
+    ends = np.concatenate([contours[k].vertices[[0, -1]] for k in opens])
+    _, inverse, counts = np.unique(ends, axis=0, return_inverse=True, return_counts=True)
+    inverse = inverse.ravel()
+    pairs = np.flatnonzero(counts == 2)
+    if not len(pairs):
+        return {}
+    lines = [curve_line(c.vertices, c.closed) for c in contours]
+    scale = max(float(np.ptp(ends, axis=0).max()), float(np.abs(ends).max()), 1e-300)
+    tree = shapely.STRtree(lines)
+    joins = {}
+    for u in pairs:
+        a, b = np.flatnonzero(inverse == u)
+        ka, kb = opens[a // 2], opens[b // 2]
+        near = tree.query(shapely.points(ends[a]), predicate="dwithin",
+                          distance=JUNCTION_SLACK * scale)
+        if set(near.tolist()) != {ka, kb}:
+            continue  # a third contour passes: a junction, not one line
+        joins[(ka, a % 2)] = (kb, b % 2)
+        joins[(kb, b % 2)] = (ka, a % 2)
+    return joins
+
+
+def _chains(joins: dict[tuple[int, int], tuple[int, int]], opens: list[int]
+            ) -> list[tuple[list[tuple[int, bool]], bool]]:
+    """The runs of pieces that ``joins`` link end to end: each a list of (contour, reversed)
+    in drawing order, and whether it closes on itself."""
+    seen, chains = set(), []
+    starts = [k for k in opens if (k, 0) not in joins or (k, 1) not in joins]
+    loops = [k for k in opens if (k, 0) in joins and (k, 1) in joins]
+    for k in starts + loops:
+        if k in seen or ((k, 0) not in joins and (k, 1) not in joins):
+            continue
+        flip = (k, 1) not in joins and (k, 0) in joins  # leave by the joined end
+        chain, ring = [], False
+        while True:
+            chain.append((k, flip))
+            seen.add(k)
+            nxt = joins.get((k, 0 if flip else 1))
+            if nxt is None:
+                break
+            if nxt[0] in seen:
+                ring = nxt[0] == chain[0][0]
+                break
+            k, flip = nxt[0], nxt[1] == 1
+        if len(chain) > 1 or ring:
+            chains.append((chain, ring))
+    return chains
+
+
+def _joined_contour(contours: list[Contour], chain: list[tuple[int, bool]], ring: bool
+                    ) -> Contour:
+    parts = [contours[k].vertices[::-1] if flip else contours[k].vertices for k, flip in chain]
+    xy = np.vstack([parts[0]] + [p[1:] for p in parts[1:]])
+    members = [contours[k] for k, _ in chain]
+    closed = ring and len(xy) >= 4
+    return Contour(xy[:-1] if closed else xy, closed, max(c.max_error for c in members),
+                   members[0].mean_error)
+
+
+def _with_reports(contours: list[Contour], reports: list[ContourReport],
+                  chains: list[tuple[list[tuple[int, bool]], bool]], made: list[Contour]
+                  ) -> tuple[list[Contour], list[ContourReport]]:
+    """The contours with each chain replaced by its joined contour (at its first piece's
+    place), and their reports: a joined contour counts the points of every contour it joins,
+    each split contour's once, and the pieces of one split contour still count them once."""
+    owner = [r.first_piece if r.first_piece is not None else k for k, r in enumerate(reports)]
+    parent = {o: o for o in owner}
+
+    def root(o: int) -> int:
+        while parent[o] != o:
+            o = parent[o]
+        return o
+
+    head = {}
+    for (chain, _), joined in zip(chains, made):
+        ks = [k for k, _ in chain]
+        head[min(ks)] = joined
+        for k in ks:
+            parent[root(owner[k])] = root(owner[ks[0]])
+    gone = {k for chain, _ in chains for k, _ in chain} - set(head)
+    points = Counter()
+    for o in set(owner):
+        points[root(o)] += reports[o].input_points
+    kept = [k for k in range(len(contours)) if k not in gone]
+    size = Counter(root(owner[k]) for k in kept)
+    out_c, out_r, first_of = [], [], {}
+    for k in kept:
+        c, g = head.get(k, contours[k]), root(owner[k])
+        first_of.setdefault(g, len(out_c))
+        out_c.append(c)
+        out_r.append(replace(reports[k], closed=c.closed, final_vertices=len(c.vertices),
+                             input_points=points[g],
+                             first_piece=first_of[g] if size[g] > 1 else None))
+    return out_c, out_r
