@@ -33,6 +33,30 @@ def curve_spacing(points: FloatArray, sample: int = SPACING_SAMPLE, seed: int = 
     return 0.5 * _neighbour_distance(points, 4, sample, seed)
 
 
+def sparse_side_spacing(points: FloatArray, sample: int = SPACING_SAMPLE, seed: int = 0
+                        ) -> float:
+    """The spacing along the curves where the scan is sparsest: the `SPARSE_QUANTILE` of a
+    local spacing smoothed over `SPARSE_NEIGHBOURS` samples (1 / (k / 2) of the distance to
+    the k-th neighbour, which spans k / 2 spacings on either side). On a scan whose density
+    varies (a turntable's far side, a sampling thinned across the part), it is several times
+    `curve_spacing`, the median; on an even sampling a little more than it."""
+    points = distinct(points)
+    k = min(SPARSE_NEIGHBOURS, len(points) - 1)
+    if k < 2:
+        return 0.0
+    rng = np.random.default_rng(seed)
+    probe = points if len(points) <= sample else points[rng.choice(len(points), sample, False)]
+    dist, _ = cKDTree(points).query(probe, k=k + 1)
+    return float(np.quantile(dist[:, -1], SPARSE_QUANTILE)) / (k / 2)
+
+
+#: The sparse side's spacing is smoothed over this many neighbours (a shorter window measures
+#: the gaps of random sampling, not the density)...
+SPARSE_NEIGHBOURS = 32
+#: ... and read at this quantile: the sparsest tenth of the scan.
+SPARSE_QUANTILE = 0.9
+
+
 def spacing_bound(points: FloatArray, seed: int, subset: int = SPACING_SUBSET) -> float:
     """A cheap upper estimate of `curve_spacing` for big clouds, from a random subset.
 

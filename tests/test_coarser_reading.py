@@ -1,0 +1,60 @@
+"""Scans whose density varies across the part: where the clean reading at the tolerance's
+radius breaks outlines on the sparse side, the ordering reads the scan again at a radius of
+its sparse side's spacing (`wavepoly.ordering.order_points`)."""
+
+import numpy as np
+import pytest
+
+import wavepoly
+from benchmarks.bench_validity import _one_per_ring
+from benchmarks.silhouettes import sample, silhouette
+from wavepoly.ordering import curve_spacing
+from wavepoly.ordering.spacing import sparse_side_spacing
+
+from .conftest import distance_to_output
+from .truth import independent_problems
+
+EPS = 1 / 150
+
+
+def _thinned(rings, floor: float, seed: int) -> np.ndarray:
+    """The rings sampled as the sweep samples them (1000 points at full density), then
+    thinned linearly across x from every point kept to a share ``floor`` of them."""
+    pts = sample(rings, int(1000 / ((1 + floor) / 2)), 0.0, 1000 + seed)
+    t = (pts[:, 0] - pts[:, 0].min()) / np.ptp(pts[:, 0])
+    keep = np.random.default_rng(seed).uniform(size=len(pts)) < 1 - (1 - floor) * t
+    return pts[keep]
+
+
+def test_the_sparse_side_spacing_sees_a_thinned_side_and_not_an_even_sampling():
+    even, thinned = [], []
+    for seed in range(6):
+        rings = silhouette(seed)
+        pts = sample(rings, 1000, 0.0, seed)
+        even.append(sparse_side_spacing(pts) / curve_spacing(pts))
+        pts = _thinned(rings, 0.25, seed)
+        thinned.append(sparse_side_spacing(pts) / curve_spacing(pts))
+    assert max(even) < 1.45 and np.mean(even) < 1.3 < 1.6 < np.mean(thinned)
+
+
+@pytest.mark.parametrize("seed", [0, 4, 12, 17])
+def test_a_silhouette_thinned_to_a_quarter_on_one_side_is_one_closed_outline(seed):
+    """Thinned to 25 % across the part, the outline broke into 2-4 open pieces where the
+    points are sparsest (20 of 30 silhouettes right before, 28 of 30 now)."""
+    rings = silhouette(seed)
+    pts = _thinned(rings, 0.25, seed)
+    result = wavepoly.fit(pts, EPS)
+    assert all(c.closed for c in result.contours), [c.closed for c in result.contours]
+    assert _one_per_ring(rings, result.contours, EPS)
+    assert len(result.outliers) == 0
+    assert result.validity.valid and independent_problems(result) == []
+    assert distance_to_output(pts, result).max() <= EPS * (1 + 1e-9)
+    assert any("the point spacing varies across the scan" in n for n in result.notes)
+
+
+def test_an_evenly_sampled_silhouette_is_read_once():
+    """An even sampling whose outline closes at the tolerance's radius is not read again."""
+    rings = silhouette(3)
+    result = wavepoly.fit(sample(rings, 1000, 0.0, 1003), EPS)
+    assert all(c.closed for c in result.contours)
+    assert not any("varies across" in n for n in result.notes)
