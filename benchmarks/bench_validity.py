@@ -226,6 +226,9 @@ SILHOUETTE_SAMPLINGS = ((None, 3000, 1 / 300, 1 / 8), (None, 1000, 1 / 150, 0.0)
                         (None, 1000, 1 / 150, 1 / 4), (300, 3000, 1 / 150, 1 / 8),
                         (200, 2000, 1 / 100, 1 / 4))
 SILHOUETTES = 60
+#: ... and exact outlines thinned across x to a share of their density (points at full
+#: density, ε, noise in ε, the share kept on the sparse side).
+THINNED_SAMPLINGS = ((1000, 1 / 150, 0.0, 0.25), (3000, 1 / 300, 1 / 8, 0.25))
 #: A ring must come out as a closed contour of its own when it is at least this many ε across
 #: (its bounding box's diagonal): the issue's "a loop of at least 4 ε extent is a contour". A
 #: smaller one (a sliver of a hole that a slit cut, 1-2 ε across) may merge into its neighbour,
@@ -260,7 +263,7 @@ def silhouette_sweep() -> str:
     """Made-up silhouettes with slits and limbs narrower than the tolerance
     (`benchmarks.silhouettes`), exact or traced from a bitmap, sampled uniformly: each must
     come out as its rings, closed and valid, with no outliers."""
-    from .silhouettes import bitmap, sample, silhouette
+    from .silhouettes import bitmap, sample, silhouette, thinned
 
     truth = _truth()
     rows = []
@@ -278,11 +281,27 @@ def silhouette_sweep() -> str:
         rows.append(["exact" if pixels is None else f"bitmap {pixels} px", n,
                      f"diagonal / {1 / eps:g}", f"{noise:g} ε", f"{right}/{SILHOUETTES}",
                      invalid, time.perf_counter() - t0])
+    for n, eps, noise, floor in THINNED_SAMPLINGS:
+        right = invalid = 0
+        t0 = time.perf_counter()
+        for seed in range(SILHOUETTES):
+            rings = silhouette(seed)
+            res = wavepoly.fit(thinned(rings, n, noise * eps, floor, seed), eps)
+            problems = truth.independent_problems(res)
+            invalid += bool(problems)
+            right += (not problems and len(res.outliers) == 0
+                      and all(c.closed for c in res.contours)
+                      and _one_per_ring(rings, res.contours, eps))
+        rows.append([f"exact, thinned to {100 * floor:g} % across", n,
+                     f"diagonal / {1 / eps:g}", f"{noise:g} ε", f"{right}/{SILHOUETTES}",
+                     invalid, time.perf_counter() - t0])
     return ("### Silhouette sweep\n\nMade-up silhouettes (`benchmarks/silhouettes.py`): an "
             "elliptic body with bent limbs, a head, wedge slits cut in "
             "whose walls run closer than ε for most of their length, sometimes a hole; sampled "
             "uniformly along the outline, exact or as a bitmap's traced outline (staircase "
-            "walls, spurs and notches a pixel wide, as a silhouette image gives them). *right*: "
+            "walls, spurs and notches a pixel wide, as a silhouette image gives them), or with "
+            "their density thinned linearly across the part to a quarter on one side (the "
+            "points column: at full density). *right*: "
             "every contour closed, one per ring (each ring drawn by one contour of its own, "
             "matched by where the contour runs, not only counted; a ring under "
             f"{MIN_RING_EXTENT:g} ε across, a sliver of a hole that a slit cut, may merge into "

@@ -58,6 +58,17 @@ def sample(rings: list[np.ndarray], n: int, sigma: float, seed: int) -> np.ndarr
     return pts + rng.normal(0.0, sigma, pts.shape) if sigma > 0 else pts
 
 
+def thinned(rings: list[np.ndarray], n: int, sigma: float, floor: float, seed: int
+            ) -> np.ndarray:
+    """The rings sampled as `sample` does (``n`` points at full density), then thinned
+    linearly across x from every point kept to a share ``floor`` of them: a scan whose
+    density varies across the part (a turntable's far side)."""
+    pts = sample(rings, int(n / ((1 + floor) / 2)), sigma, 1000 + seed)
+    t = (pts[:, 0] - pts[:, 0].min()) / np.ptp(pts[:, 0])
+    keep = np.random.default_rng(seed).uniform(size=len(pts)) < 1 - (1 - floor) * t
+    return pts[keep]
+
+
 def bitmap(rings: list[np.ndarray], pixels: int) -> list[np.ndarray]:
     """The rings as a bitmap's traced outline, ``pixels`` across the diagonal: staircase walls,
     spurs and notches one pixel wide, as a silhouette image's contour gives them (rings that

@@ -7,7 +7,7 @@ import pytest
 
 import wavepoly
 from benchmarks.bench_validity import _one_per_ring
-from benchmarks.silhouettes import sample, silhouette
+from benchmarks.silhouettes import sample, silhouette, thinned
 from wavepoly.ordering import curve_spacing
 from wavepoly.ordering.spacing import sparse_side_spacing
 
@@ -18,12 +18,8 @@ EPS = 1 / 150
 
 
 def _thinned(rings, floor: float, seed: int) -> np.ndarray:
-    """The rings sampled as the sweep samples them (1000 points at full density), then
-    thinned linearly across x from every point kept to a share ``floor`` of them."""
-    pts = sample(rings, int(1000 / ((1 + floor) / 2)), 0.0, 1000 + seed)
-    t = (pts[:, 0] - pts[:, 0].min()) / np.ptp(pts[:, 0])
-    keep = np.random.default_rng(seed).uniform(size=len(pts)) < 1 - (1 - floor) * t
-    return pts[keep]
+    """The rings as the sweep's thinned rows sample them: 1000 points at full density."""
+    return thinned(rings, 1000, 0.0, floor, seed)
 
 
 def test_the_sparse_side_spacing_sees_a_thinned_side_and_not_an_even_sampling():
