@@ -240,7 +240,8 @@ def _coarser_reading(ordering: Ordering, pts: FloatArray, radius: float, seed: i
     """The scan read at a radius of `SPACINGS_PER_RADIUS` spacings of its sparse side
     (`sparse_side_spacing`), where its density varies so much that this is at least
     `COARSER_AT_LEAST` x ``radius`` and the clean reading at ``radius`` left outlines open;
-    kept where it leaves no more points out, more outlines closed and fewer open; else None.
+    kept where it leaves no more points out, every outline closed and none of the closed ones
+    lost; else None.
     """
     if not ordering.clean or _open(ordering) == 0 or len(pts) > COARSER_POINTS:
         return None
@@ -248,10 +249,9 @@ def _coarser_reading(ordering: Ordering, pts: FloatArray, radius: float, seed: i
     if coarse < COARSER_AT_LEAST * radius:
         return None
     wide = read(radius=coarse, sparse=False)
-    if (not wide.clean or len(wide.outliers) > len(ordering.outliers)
-            or _open(wide) >= _open(ordering)
-            or len(wide.contours) - _open(wide) < len(ordering.contours) - _open(ordering)):
-        return None
+    if (not wide.clean or len(wide.outliers) > len(ordering.outliers) or _open(wide) > 0
+            or len(wide.contours) < len(ordering.contours) - _open(ordering)):
+        return None  # a reading that closes only some (a slab cut along a face) is no better
     note = (f"read at a radius of {coarse:.4g}: the point spacing varies across the scan, and "
             f"at {radius:.4g} the march broke outlines where the points are sparsest")
     return replace(wide, notes=(*wide.notes, note))
