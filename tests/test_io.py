@@ -147,6 +147,14 @@ def test_carmen_robotlaser_takes_its_own_field_of_view(tmp_path):
                                atol=1e-6)
 
 
+def test_carmen_no_returns_a_hair_below_the_sensor_maximum_are_dropped(tmp_path):
+    """No-returns written as 81.83 and, on a dazzled beam, 81.82: neither is a wall 80 m out."""
+    path = tmp_path / "max.log"
+    path.write_text("FLASER 5 1.0 81.83 81.82 1.0 1.0 0.0 0.0 0.0 0 0 0 0 host 0\n")
+    h = np.sqrt(0.5)  # beams at -90, -45, 0, 45 and 90 degrees
+    np.testing.assert_allclose(read_points(path), [[0.0, -1.0], [h, h], [0.0, 1.0]], atol=1e-9)
+
+
 def test_carmen_log_with_both_kinds_reads_each_scan_once(tmp_path):
     """A converted log keeps FLASER lines beside ROBOTLASER1: the scans are placed once."""
     flaser = "FLASER 3 1.0 1.0 1.0 0.0 0.0 0.0 0 0 0 0 host 0\n"

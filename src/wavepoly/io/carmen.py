@@ -13,8 +13,9 @@ lx ly ltheta rx ry rtheta ...``
 
 A log holding both kinds (a converted log keeps its old lines beside the new) is read from its
 ROBOTLASER1 lines alone: they say the field of view and the range limit, and reading both
-would place every scan twice. Returns at the range limit (for FLASER, the largest range in the
-log: the sensor's maximum) and non-positive ones are no-returns and are dropped.
+would place every scan twice. Returns at the range limit or within 1 % of it (for FLASER, the
+largest range in the log: the sensor's maximum) and non-positive ones are no-returns and are
+dropped.
 
 References
 ----------
@@ -36,8 +37,10 @@ from .text import bounded_lines, no_columns, open_text, snippet
 CARMEN_SUFFIXES = (".log", ".log.gz", ".clf", ".clf.gz")
 #: FLASER beams span this field of view (radians): the SICK front laser of the older logs.
 FLASER_FOV = np.pi
-#: A return within this of the range limit is the limit itself (a no-return), not a wall.
-NO_RETURN_MARGIN = 1e-6
+#: A return within this share of the range limit is a no-return, not a wall: loggers write
+#: the sensor's maximum for a beam that saw nothing, and a dazzled beam a hair below it (a log
+#: whose no-returns read 81.83 and 81.82 would otherwise draw an arc of points 80 m out).
+NO_RETURN_SHARE = 0.99
 #: Fields of a ROBOTLASER1 line before its readings (the kind, type, start angle, field of
 #: view, resolution, maximum range, accuracy, remission mode, count).
 _ROBOTLASER_HEAD = 9
@@ -79,7 +82,7 @@ def read_carmen(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.nda
 
 def _world_points(scan: _Scan) -> np.ndarray:
     x, y, theta = scan.pose
-    keep = (scan.ranges > 0) & (scan.ranges < scan.limit - NO_RETURN_MARGIN)
+    keep = (scan.ranges > 0) & (scan.ranges < NO_RETURN_SHARE * scan.limit)
     angle, r = theta + scan.angles[keep], scan.ranges[keep]
     return np.column_stack([x + r * np.cos(angle), y + r * np.sin(angle)])
 
