@@ -143,6 +143,41 @@ def test_property_valid_and_within_tolerance_on_glyphs(case):
     _valid(pts, wavepoly.fit(pts, eps))
 
 
+@st.composite
+def random_walls(draw):
+    """A few straight walls of a floor plan, 1-4 m long, crossing and meeting at will, some
+    doubled 0.5-3 ε apart (a thin wall's two faces), sampled densely with Gaussian noise as
+    a laser map's bands: the crossings and folds the selection must keep valid."""
+    eps = draw(st.sampled_from((0.05, 0.1)))
+    rng = np.random.default_rng(draw(st.integers(0, 10**6)))
+    noise = draw(st.floats(0.0, 0.3)) * eps
+    walls = []
+    for _ in range(draw(st.integers(2, 6))):
+        a = rng.uniform(0, 4, 2)
+        d = rng.normal(size=2)
+        d /= np.linalg.norm(d)
+        b = a + d * rng.uniform(1, 4)
+        walls.append((a, b))
+        if rng.uniform() < 0.3:  # the wall's other face
+            n = np.array([-d[1], d[0]]) * rng.uniform(0.5, 3) * eps
+            walls.append((a + n, b + n))
+    pts = []
+    for a, b in walls:
+        t = rng.uniform(0, 1, max(8, int(np.linalg.norm(b - a) / (eps / 6))))
+        pts.append(a + t[:, None] * (b - a))
+    pts = np.concatenate(pts)
+    return pts + rng.normal(0, noise, pts.shape) if noise > 0 else pts, eps
+
+
+@settings(max_examples=12, deadline=None)
+@given(random_walls())
+def test_property_valid_and_within_tolerance_on_crossing_walls(case):
+    """Walls that cross, meet at T's and run side by side closer than the tolerance: the
+    result is valid and every point not listed as an outlier is within ε."""
+    pts, eps = case
+    _valid(pts, wavepoly.fit(pts, eps))
+
+
 @settings(max_examples=10, deadline=None)
 @given(glyph_union(tolerances=(0.01, 0.02), noise=(0.15, 0.25)))
 def test_property_clean_samplings_have_no_outliers(case):
