@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import DataError
-from .text import bounded_lines, no_columns, open_text, snippet
+from .text import bounded_lines, is_number, no_columns, open_text, snippet
 
 #: Extensions of CARMEN logs (`wavepoly.io.readers.detect_format`).
 CARMEN_SUFFIXES = (".log", ".log.gz", ".clf", ".clf.gz")
@@ -122,16 +122,8 @@ def _numbers(tokens: list[str], path: Path, lineno: int) -> np.ndarray:
     try:
         values = np.array(tokens, dtype=np.float64)
     except ValueError:
-        bad = next(t for t in tokens if not _is_float(t))
+        bad = next(t for t in tokens if not is_number(t))
         raise DataError(f"{path}: line {lineno}: {snippet(bad)} is not a number") from None
     if not np.isfinite(values).all():
         raise DataError(f"{path}: line {lineno}: a reading or the pose is not finite")
     return values
-
-
-def _is_float(token: str) -> bool:
-    try:
-        float(token)
-    except ValueError:
-        return False
-    return True

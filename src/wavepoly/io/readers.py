@@ -19,7 +19,7 @@ from ..validate import validate_points
 from .carmen import CARMEN_SUFFIXES, read_carmen
 from .pcd import read_pcd
 from .streams import is_stream, stream_as_path
-from .text import MAX_LINE, bounded_lines, no_columns, open_text, snippet
+from .text import MAX_LINE, bounded_lines, is_number, no_columns, open_text, snippet
 
 TEXT_FORMATS = ("xyz", "xy", "txt", "csv", "pts", "p2d", "gtn", "xym", "asc")
 FORMATS = (*TEXT_FORMATS, "npy", "ply", "las", "laz", "pcd", "obj", "off", "carmen", "conf")
@@ -139,7 +139,7 @@ def _read_text(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndar
                 if tokens[0] == "p":
                     rows.append(tokens[1:])
                 continue
-            if not _is_number(tokens[0]) or not all(_is_number(t) for t in tokens):
+            if not is_number(tokens[0]) or not all(is_number(t) for t in tokens):
                 if not rows and not header_seen:
                     header_seen = True  # one header line (e.g. 'x,y,z') is allowed
                     continue
@@ -174,9 +174,9 @@ def _read_table_fast(path: Path, fmt: str, columns: tuple[int, ...] | None
     lines = [ln for ln in lines if ln]
     if len(lines) < 2:
         return None
-    skip = 0 if all(_is_number(t) for t in _SPLIT.split(lines[0]) if t) else 1
+    skip = 0 if all(is_number(t) for t in _SPLIT.split(lines[0]) if t) else 1
     first = [t for t in _SPLIT.split(lines[skip]) if t]
-    if not first or not all(_is_number(t) for t in first) or _looks_like_gtn([first] * 2):
+    if not first or not all(is_number(t) for t in first) or _looks_like_gtn([first] * 2):
         return None
     delimiter = "," if "," in lines[skip] else None
     try:
@@ -201,7 +201,7 @@ def _header_rows(path: Path) -> int:
             line = raw.split("#", 1)[0].strip()
             if not line:
                 continue
-            if all(_is_number(t) for t in _SPLIT.split(line) if t):
+            if all(is_number(t) for t in _SPLIT.split(line) if t):
                 return count
             count += 1
     return count
@@ -239,14 +239,6 @@ def _looks_like_gtn(rows: list[list[str]]) -> bool:
     if len(first) != 4 or len(rows) < 2 or not first[0].isdigit():
         return False
     return int(first[0]) == len(rows) - 1 and all(r[0].isdigit() for r in rows[1:3])
-
-
-def _is_number(token: str) -> bool:
-    try:
-        float(token)
-    except ValueError:
-        return False
-    return True
 
 
 def _read_npy(path: Path, fmt: str, columns: tuple[int, ...] | None) -> np.ndarray:

@@ -41,3 +41,12 @@ def no_columns(path: Path, fmt: str, columns: tuple[int, ...] | None, what: str)
     """Formats without columns to choose: say so rather than ignore ``--columns``."""
     if columns is not None:
         raise DataError(f"{path}: --columns does not apply to .{fmt} files ({what})")
+
+
+def is_number(token: str) -> bool:
+    """Whether ``token`` reads as a float."""
+    try:
+        float(token)
+    except ValueError:
+        return False
+    return True
