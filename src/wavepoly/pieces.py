@@ -135,9 +135,10 @@ def _end_joins(contours: list[Contour]) -> dict[tuple[int, int], tuple[int, int]
     lines = [curve_line(c.vertices, c.closed) for c in contours]
     scale = max(float(np.ptp(ends, axis=0).max()), float(np.abs(ends).max()), 1e-300)
     tree = shapely.STRtree(lines)
+    order = np.argsort(inverse, kind="stable")  # the two ends at each shared point, in turn
+    first = np.searchsorted(inverse[order], pairs)
     joins = {}
-    for u in pairs:
-        a, b = np.flatnonzero(inverse == u)
+    for a, b in zip(order[first].tolist(), order[first + 1].tolist()):
         ka, kb = opens[a // 2], opens[b // 2]
         near = tree.query(shapely.points(ends[a]), predicate="dwithin",
                           distance=JUNCTION_SLACK * scale)
