@@ -20,6 +20,8 @@ from dataclasses import replace
 
 import numpy as np
 import shapely
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
 
 from .geometry import curve_line
 from .types import Contour, ContourReport, FloatArray, Validity
@@ -80,23 +82,19 @@ def noded_contours(contours: list[Contour], reports: list[ContourReport], validi
 
 def _problem_groups(validity: Validity, n: int) -> list[list[int]]:
     """The contours named by the problems of ``validity``, in groups that problems join."""
-    parent = list(range(n))
-
-    def root(k: int) -> int:
-        while parent[k] != k:
-            parent[k] = parent[parent[k]]
-            k = parent[k]
-        return k
-
-    named = set()
-    for problem in validity.problems:
-        named.update(problem.contours)
-        for k in problem.contours[1:]:
-            parent[root(k)] = root(problem.contours[0])
+    named = sorted({k for p in validity.problems for k in p.contours})
+    label = _labels(n, [(p.contours[0], k) for p in validity.problems for k in p.contours[1:]])
     groups: dict[int, list[int]] = {}
-    for k in sorted(named):
-        groups.setdefault(root(k), []).append(k)
+    for k in named:
+        groups.setdefault(int(label[k]), []).append(k)
     return list(groups.values())
+
+
+def _labels(n: int, pairs: list[tuple[int, int]]) -> np.ndarray:
+    """For each of ``n`` items, the label of the group that ``pairs`` join it into."""
+    a, b = (np.array(x, dtype=np.intp) for x in zip(*pairs)) if pairs else ([], [])
+    graph = coo_matrix((np.ones(len(a)), (a, b)), shape=(n, n))
+    return connected_components(graph, directed=False)[1]
 
 
 def join_at_ends(contours: list[Contour], reports: list[ContourReport]
@@ -193,19 +191,13 @@ def _with_reports(contours: list[Contour], reports: list[ContourReport],
     place), and their reports: a joined contour counts the points of every contour it joins,
     each split contour's once, and the pieces of one split contour still count them once."""
     owner = [r.first_piece if r.first_piece is not None else k for k, r in enumerate(reports)]
-    parent = {o: o for o in owner}
+    head = {min(k for k, _ in chain): joined for (chain, _), joined in zip(chains, made)}
+    label = _labels(len(contours), [(owner[chain[0][0]], owner[k]) for chain, _ in chains
+                                    for k, _ in chain[1:]])
 
     def root(o: int) -> int:
-        while parent[o] != o:
-            o = parent[o]
-        return o
+        return int(label[o])
 
-    head = {}
-    for (chain, _), joined in zip(chains, made):
-        ks = [k for k, _ in chain]
-        head[min(ks)] = joined
-        for k in ks:
-            parent[root(owner[k])] = root(owner[ks[0]])
     gone = {k for chain, _ in chains for k, _ in chain} - set(head)
     points = Counter()
     for o in set(owner):

@@ -40,14 +40,8 @@ def sparse_side_spacing(points: FloatArray, sample: int = SPACING_SAMPLE, seed: 
     the k-th neighbour, which spans k / 2 spacings on either side). On a scan whose density
     varies (a turntable's far side, a sampling thinned across the part), it is several times
     `curve_spacing`, the median; on an even sampling a little more than it."""
-    points = distinct(points)
-    k = min(SPARSE_NEIGHBOURS, len(points) - 1)
-    if k < 2:
-        return 0.0
-    rng = np.random.default_rng(seed)
-    probe = points if len(points) <= sample else points[rng.choice(len(points), sample, False)]
-    dist, _ = cKDTree(points).query(probe, k=k + 1)
-    return float(np.quantile(dist[:, -1], SPARSE_QUANTILE)) / (k / 2)
+    k = SPARSE_NEIGHBOURS
+    return _neighbour_distance(points, k, sample, seed, SPARSE_QUANTILE) / (k / 2)
 
 
 #: The sparse side's spacing is smoothed over this many neighbours (a shorter window measures
@@ -69,14 +63,17 @@ def spacing_bound(points: FloatArray, seed: int, subset: int = SPACING_SUBSET) -
     return curve_spacing(points[pick], seed=seed) * np.sqrt(subset / len(points))
 
 
-def _neighbour_distance(points: FloatArray, k: int, sample: int, seed: int) -> float:
+def _neighbour_distance(points: FloatArray, k: int, sample: int, seed: int,
+                        quantile: float = 0.5) -> float:
+    """The ``quantile`` (the median by default) of the distances from a sample of the distinct
+    points to their k-th neighbour."""
     points = distinct(points)
     tree = cKDTree(points)
     rng = np.random.default_rng(seed)
     probe = points if len(points) <= sample else points[rng.choice(len(points), sample, False)]
     dist, _ = tree.query(probe, k=min(k + 1, len(points)))
     kth = dist[:, -1][np.isfinite(dist[:, -1]) & (dist[:, -1] > 0)]
-    return float(np.median(kth)) if len(kth) else 0.0
+    return float(np.quantile(kth, quantile)) if len(kth) else 0.0
 
 
 def distinct(points: FloatArray) -> FloatArray:
