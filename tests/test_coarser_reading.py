@@ -54,3 +54,19 @@ def test_an_evenly_sampled_silhouette_is_read_once():
     result = wavepoly.fit(sample(rings, 1000, 0.0, 1003), EPS)
     assert all(c.closed for c in result.contours)
     assert not any("varies across" in n for n in result.notes)
+
+
+@pytest.mark.parametrize("seed", [8, 21, 45])
+def test_a_thinned_silhouettes_slit_is_read_against_the_walls_beside_it(seed):
+    """Thinned to a quarter across, a slit's merged walls hold twice the points per length of
+    the walls beside them but not of the whole outline's densest side; measured against the
+    whole, the loop and its tail down the slit stayed open (the sweep's finer row: 46 of 60
+    right before, 55 now)."""
+    rings = silhouette(seed)
+    eps = EPS / 2
+    pts = thinned(rings, 3000, eps / 8, 0.25, seed)
+    result = wavepoly.fit(pts, eps)
+    assert all(c.closed for c in result.contours), [c.closed for c in result.contours]
+    assert _one_per_ring(rings, result.contours, eps)
+    assert result.validity.valid and independent_problems(result) == []
+    assert distance_to_output(pts, result).max() <= eps * (1 + 1e-9)

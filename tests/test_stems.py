@@ -77,6 +77,21 @@ def test_a_stroke_of_a_line_drawing_stays_a_stroke():
     assert drawn < 2 * np.pi + 1.5
 
 
+
+def test_a_stroke_on_an_uneven_sampling_stays_a_stroke():
+    # the same drawing thinned to a quarter across: beside its root the stroke holds as many
+    # points per length as the ring, though more than the ring's sparse side
+    t = np.linspace(0, 2 * np.pi, 400, endpoint=False)
+    ring = np.column_stack([np.cos(t), np.sin(t)])
+    stroke = np.linspace([1.0, 0.0], [2.0, 0.0], 40)
+    pts = np.vstack([sample_rings([ring], spacing=EPS / 6, seed=2),
+                     sample_rings([stroke], spacing=EPS / 6, closed=[False], seed=3)])
+    keep = np.random.default_rng(4).uniform(size=len(pts)) < 1 - 0.375 * (2 - pts[:, 0]) / 1.5
+    result = wavepoly.fit(pts[keep], EPS)
+    assert independent_problems(result) == []
+    drawn = sum(shapely.length(shapely.LineString(c.vertices)) for c in result.contours)
+    assert drawn < 2 * np.pi + 1.5
+
 def test_a_loop_with_a_tail_down_a_slit_is_walked_out_and_back():
     t = np.linspace(0.02, 2 * np.pi - 0.02, 400)
     ring = np.column_stack([np.cos(t), np.sin(t)])

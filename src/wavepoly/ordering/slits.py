@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 import shapely
+from scipy.spatial import cKDTree
 
 from ..geometry import nearest_of_segments, polyline_length
 from ..types import FloatArray, IntArray
@@ -55,6 +56,12 @@ DENSITY_WINDOW = 8.0
 #: times as many points per length as the sparsest: a scan's uniform sampling, not a laser
 #: map's, whose density falls with the range (there a stem is no sign of two walls).
 EVEN_SAMPLING = 3.0
+#: On an uneven sampling (a turntable scan's far side holds a quarter of the near side's
+#: points per length) the stems are measured against the cycle's walls within this many radii
+#: of them, which a smooth change of density leaves alike, and must spread `SLIT_SPREAD` x as
+#: far as the cycle's points too: the slits of silhouettes thinned so held 1.5-4.0 x the points
+#: of the walls beside them and spread 1.8 x or more.
+LOCAL_REACH = 2 * DENSITY_WINDOW
 
 
 def stems_are_slits(paths: dict[int, list[FloatArray]], walk: list[tuple[int, FloatArray]],
@@ -87,12 +94,23 @@ def stems_are_slits(paths: dict[int, list[FloatArray]], walk: list[tuple[int, Fl
     count = np.bincount(seg, minlength=len(a))
     ring = label < len(walk)
     wide = _spread_ratio(dist, ring[seg], radius) >= SLIT_SPREAD
-    least = SLIT_DENSITY if wide or _at_hairpins(paths, walk, radius) else STEM_DENSITY
     window = STEM_WINDOW * radius
-    ring_density = count[ring].sum() / max(seg_length[ring].sum(), 1e-300)
     stem_density = _denser_half(count[~ring], seg_length[~ring], label[~ring], window)
-    return (_even(seg[seg < ring.sum()], seg_length[ring], radius)
-            and bool(stem_density >= least * ring_density))
+    if not _even(seg[seg < ring.sum()], seg_length[ring], radius):
+        beside = ring & _near(a, b, np.vstack(lines[len(walk):]), LOCAL_REACH * radius)
+        return wide and bool(stem_density >= STEM_DENSITY * _density(count, seg_length, beside))
+    least = SLIT_DENSITY if wide or _at_hairpins(paths, walk, radius) else STEM_DENSITY
+    return bool(stem_density >= least * _density(count, seg_length, ring))
+
+
+def _density(count: FloatArray, seg_length: FloatArray, pick: np.ndarray) -> float:
+    """Points per length of the ``pick`` segments (``count`` points on each)."""
+    return float(count[pick].sum() / max(seg_length[pick].sum(), 1e-300))
+
+
+def _near(a: FloatArray, b: FloatArray, xy: FloatArray, reach: float) -> np.ndarray:
+    """Whether each segment a-b has its middle within ``reach`` of a vertex of ``xy``."""
+    return cKDTree(xy).query((a + b) / 2, distance_upper_bound=reach)[0] <= reach
 
 
 def _middle(stem: FloatArray) -> FloatArray:
