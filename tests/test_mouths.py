@@ -96,3 +96,44 @@ def test_a_silhouette_limb_with_a_narrow_root_is_one_outline(row, seed):
     assert [c.closed for c in result.contours] == [True]
     assert len(result.outliers) == 0
     _valid(pts, result)
+
+
+def _body_and_pocket(depth_below_top: float):
+    """A 10 x 4 body with a slot 0.6 wide (1.5 radii) from y 1 up to ``depth_below_top`` under
+    its top wall: a notch open at the top (0) or a hole (> 0). The ordered rings are as the
+    march leaves a notch whose mouth it closed: the body's ring runs straight across the top,
+    the slot's ring is closed 0.3 (0.75 radii) under it, or at the hole's top wall."""
+    top = 4.0 - depth_below_top
+    if depth_below_top == 0:
+        outline = [(0, 0), (10, 0), (10, 4), (5.3, 4), (5.3, 1), (4.7, 1), (4.7, 4), (0, 4),
+                   (0, 0)]
+        points = _walk(outline, SPACING)
+    else:
+        slot = [(5.3, top), (5.3, 1), (4.7, 1), (4.7, top), (5.3, top)]
+        points = np.vstack([_walk([(0, 0), (10, 0), (10, 4), (0, 4), (0, 0)], SPACING),
+                            _walk(slot, SPACING)])
+    foot = min(top, 3.7)
+    body_ring = _walk([(0, 0), (10, 0), (10, 4), (0, 4), (0, 0)], STEP)
+    pocket_ring = _walk([(5.3, foot), (5.3, 1), (4.7, 1), (4.7, foot), (5.3, foot)], STEP)
+    body = OrderedContour(body_ring, True, np.arange(len(points)))
+    return points, [body, OrderedContour(pocket_ring, True, np.empty(0, dtype=np.intp))]
+
+
+def test_a_notch_closed_across_its_mouth_joins_the_outline():
+    """The ring the march closed inside the notch was a hole where the truth is a notch (the
+    slit between scikit-image's horse's ears): it joins the outline through the mouth."""
+    points, rings = _body_and_pocket(0.0)
+    out = join_through_mouths(rings, points, RADIUS)
+    assert len(out) == 1 and out[0].closed
+    polygon = shapely.Polygon(out[0].points)
+    assert polygon.is_valid
+    assert not polygon.contains(shapely.Point(5.0, 2.5))  # the notch is outside the shape
+    assert polygon.contains(shapely.Point(3.0, 2.0))
+    assert shapely.LinearRing(out[0].points).distance(shapely.Point(5.0, 1.0)) < 0.1
+
+
+def test_a_thin_hole_with_a_wall_under_the_outline_stays_a_hole():
+    # 1.2 (3 radii) of wall between the slot's top and the outline: a hole, not a notch
+    points, rings = _body_and_pocket(1.2)
+    out = join_through_mouths(rings, points, RADIUS)
+    assert len(out) == 2 and all(c.closed for c in out)

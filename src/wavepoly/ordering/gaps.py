@@ -126,7 +126,7 @@ def _partner_ends(ends: FloatArray, tree: cKDTree, radius: float) -> np.ndarray:
         for d, j in zip(dist[e], near[e]):
             if not np.isfinite(d):
                 break
-            if j // 2 != e // 2 and _supported(ends[e], ends[j], tree, radius):
+            if j // 2 != e // 2 and is_supported(ends[e], ends[j], tree, radius):
                 choice[e] = j
                 break
     mutual = (choice >= 0) & (choice[np.maximum(choice, 0)] == np.arange(len(ends)))
@@ -177,15 +177,15 @@ def meets_others(ring: FloatArray, own: tuple[int, ...], others: shapely.STRtree
 
 def _filled_gap(xy: FloatArray, tree: cKDTree, radius: float) -> bool:
     """Are the piece's ends within `GAP_REACH` radii, the piece `GAP_LENGTH` times as long as
-    the gap, and points along the gap (`_supported`)?"""
+    the gap, and points along the gap (`is_supported`)?"""
     a, b = xy[0], xy[-1]
     gap = float(np.linalg.norm(b - a))
     if len(xy) < 4 or gap > GAP_REACH * radius or polyline_length(xy, False) < GAP_LENGTH * gap:
         return False
-    return _supported(a, b, tree, radius)
+    return is_supported(a, b, tree, radius)
 
 
-def _supported(a: FloatArray, b: FloatArray, tree: cKDTree, radius: float) -> bool:
+def is_supported(a: FloatArray, b: FloatArray, tree: cKDTree, radius: float) -> bool:
     """Does a point lie within `GAP_SUPPORT` radii of every sample along the gap from a to b?"""
     steps = max(int(np.ceil(np.linalg.norm(b - a) / (GAP_STEP * radius))), 1)
     t = np.linspace(0.0, 1.0, steps + 1)[:, None]
