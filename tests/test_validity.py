@@ -111,6 +111,27 @@ def test_untangle_removes_a_crossing_and_keeps_the_points():
     assert sorted(map(tuple, fixed)) == sorted(map(tuple, ring))
 
 
+
+def test_untangle_moves_a_point_off_an_edge_it_touches():
+    # a spike's loop whose corner (as the corner sharpening puts it) lies on a later leg
+    a, b = np.array([8.2546, 11.5808]), np.array([8.2917, 11.5374])
+    ring = np.array([[8.0, 10.0], [8.1449, 11.5009], [8.1915, 11.5255], a + 0.35 * (b - a),
+                     [8.2449, 11.897], [8.151, 11.6988], a, b, [8.5, 10.0]])
+    assert not shapely.Polygon(ring).is_valid and not len(crossing_edges(ring, True))
+    fixed = untangle(ring, True)
+    assert shapely.Polygon(fixed).is_valid
+    assert sorted(map(tuple, fixed)) == sorted(map(tuple, ring))
+
+
+def test_a_spike_whose_corner_touches_its_leg_stays_one_closed_outline():
+    """DejaVu Sans Mono's 'W' at ε 0.1: the ordered ring's inner apex looped round a corner
+    that lay on the leg beyond it; the fit cut the outline there into two open pieces."""
+    shape = glyph_outlines("W", height=20.0, family="DejaVu Sans Mono")
+    pts = sample_rings(shape.rings, spacing=0.03, noise=0.025, seed=11)
+    result = wavepoly.fit(pts, 0.1)
+    _valid(pts, result)
+    assert [c.closed for c in result.contours] == [True]
+
 def test_invalid_results_are_not_written(tmp_path):
     bowtie = np.array([[0, 0], [1, 1], [1, 0], [0, 1]], float)
     contours = [Contour(bowtie, True)]

@@ -51,13 +51,18 @@ KISS_ANGLE = 50.0
 MAX_SPLITS = 8
 #: A loop of fewer nodes encloses no shape worth a ring of its own.
 MIN_LOOP_NODES = 4
+#: 2-opt moves that clear touching edges, per chain: such contacts are rare (one at the
+#: inner apex of DejaVu Sans Mono's 'W' at tolerance 0.1), and each move is checked whole.
+MAX_TOUCH_MOVES = 8
 
 
 def untangle(xy: FloatArray, closed: bool) -> FloatArray:
     """The chain's points in an order whose polyline does not cross itself.
 
     Reverses the run between two crossing edges (a 2-opt move), shortest runs first, until no
-    two non-adjacent edges cross or `MAX_ROUNDS` have passed.
+    two non-adjacent edges cross or `MAX_ROUNDS` have passed. Then a point that lies on an
+    edge not its own (a corner the sharpening put on the line of a leg beyond it) is moved
+    off it the same way, where a move leaves fewer such contacts.
     """
     n = len(xy)
     if n < 4:
@@ -69,6 +74,29 @@ def untangle(xy: FloatArray, closed: bool) -> FloatArray:
             break
         for i, j in _disjoint_runs(pairs):
             out[i + 1:j + 1] = out[i + 1:j + 1][::-1].copy()
+    return _untouched(out, closed)
+
+
+def _untouched(xy: FloatArray, closed: bool) -> FloatArray:
+    """The chain with the 2-opt moves that clear its touching non-adjacent edges
+    (`touching_edges`), each kept where it leaves fewer touching or crossing pairs."""
+    out = xy
+    for _ in range(MAX_TOUCH_MOVES):
+        if _simple(out, closed):
+            break
+        pairs = touching_edges(out, closed)
+        if not len(pairs):
+            break
+        count = len(pairs)
+        for i, j in pairs:
+            moved = out.copy()
+            moved[i + 1:j + 1] = moved[i + 1:j + 1][::-1].copy()
+            left = len(touching_edges(moved, closed)) + len(crossing_edges(moved, closed))
+            if left < count:
+                out = moved
+                break
+        else:
+            break
     return out
 
 
@@ -131,15 +159,32 @@ def _crossing_angle(xy: FloatArray, i: int, j: int) -> float:
     return float(np.degrees(np.arccos(min(cos, 1.0))))
 
 
+def _simple(xy: FloatArray, closed: bool) -> bool:
+    """Whether the chain is a valid polygon (closed) or a simple line (open)."""
+    if closed:
+        return bool(shapely.Polygon(xy).is_valid)
+    return bool(shapely.LineString(xy).is_simple)
+
+
 def crossing_edges(xy: FloatArray, closed: bool) -> IntArray:
     """(i, j), i < j: edge i (xy[i] -> xy[i+1]) properly crosses edge j, not adjacent to it."""
+    return _edge_pairs(xy, closed, "crosses")
+
+
+def touching_edges(xy: FloatArray, closed: bool) -> IntArray:
+    """(i, j), i < j: edge i touches edge j, not adjacent to it (a point of one on the other)."""
+    return _edge_pairs(xy, closed, "touches")
+
+
+def _edge_pairs(xy: FloatArray, closed: bool, predicate: str) -> IntArray:
+    """(i, j), i < j, of non-adjacent edges that meet by the shapely ``predicate``."""
     n = len(xy)
     m = n if closed else n - 1
     a = xy[:m]
     b = np.roll(xy, -1, axis=0)[:m] if closed else xy[1:]
     segs = shapely.linestrings(np.stack([a, b], axis=1))
     tree = shapely.STRtree(segs)
-    i, j = tree.query(segs, predicate="crosses")
+    i, j = tree.query(segs, predicate=predicate)
     keep = (i < j) & (j - i > 1) & ~(closed & (i == 0) & (j == m - 1))
     return np.column_stack([i[keep], j[keep]]).astype(np.intp)
 
