@@ -132,8 +132,10 @@ def test_a_notch_closed_across_its_mouth_joins_the_outline():
     assert shapely.LinearRing(out[0].points).distance(shapely.Point(5.0, 1.0)) < 0.1
 
 
-def test_a_thin_hole_with_a_wall_under_the_outline_stays_a_hole():
-    # 1.2 (3 radii) of wall between the slot's top and the outline: a hole, not a notch
-    points, rings = _body_and_pocket(1.2)
+@pytest.mark.parametrize("wall", [0.5, 1.2])
+def test_a_thin_hole_with_a_wall_under_the_outline_stays_a_hole(wall):
+    # 1.25 radii of wall between the slot's top and the outline, whose points run all along
+    # it (no mouth), or 3 radii: a hole, not a notch
+    points, rings = _body_and_pocket(wall)
     out = join_through_mouths(rings, points, RADIUS)
     assert len(out) == 2 and all(c.closed for c in out)

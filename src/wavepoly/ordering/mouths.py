@@ -14,11 +14,13 @@ they stay apart.
 A notch whose mouth is narrower than the radius (the slit between a horse's ears) may be closed
 the same way, its walls drawn as a thin ring inside the outline: a hole where the truth is a
 notch. Such a *pocket* comes within a couple of radii of the outline and is a few radii wide
-at most; it joins the outline by the 2-opt move of least detour whose links run along points.
-A true hole of a silhouette keeps a wall of its own between it and the outline, and a ring
+at most; it joins the outline by the 2-opt move of least detour that takes out a stretch of
+the outline across the mouth (bare of points: no wall runs there) and whose links run along
+points. A true hole of a silhouette keeps a wall of its own between it and the outline, and a ring
 inside a ring (an annulus) is no thin ring. A slot hole that thin and that near its outline,
-with less than two radii of wall between them, reads as a notch too: the points cannot tell
-the two apart at that scale, and the notch keeps them within the tolerance all the same.
+with less than two radii of wall between them where the outline's points leave a gap, reads
+as a notch too (the lens that touches the beak's wall in the shared drawing f3): the points
+cannot tell the two apart at that scale, and the notch keeps them within the tolerance.
 
 References
 ----------
@@ -74,6 +76,11 @@ POCKET_GAP = 2.0
 POCKET_WIDTH = 3.0
 #: Edges of the pocket tried for the move, the nearest to the ring around it first.
 POCKET_EDGES = 6
+#: The pass the move takes out of the ring around a pocket runs across its mouth, where no
+#: wall runs: the middle half of the pass lies at least this many radii from every point
+#: somewhere (0.39-0.69 across the horse's ear slit and a silhouette's slit; along a wall
+#: sampled every third of a radius, a sixth of one).
+POCKET_BARE = 0.3
 #: A pocket's node this many radii or less from the node before it is dropped: the march
 #: stepped back by a tenth of a radius there, and the edge after it grazed the node before.
 POCKET_STEP = 0.25
@@ -152,8 +159,8 @@ def _first_pocket(contours: list[OrderedContour], points: FloatArray,
                   ) -> tuple[int, int, FloatArray] | None:
     """The first pocket (`POCKET_GAP`, `POCKET_WIDTH`) that joins the ring around it, with the
     joined ring: of the moves between its `POCKET_EDGES` edges nearest that ring and the
-    ring's edges within `MOUTH_REACH` radii of each, the one of least detour whose two links
-    run along points (`gaps.is_supported`)."""
+    ring's edges within `MOUTH_REACH` radii of each that cross a mouth (`POCKET_BARE`), the
+    one of least detour whose two links run along points (`gaps.is_supported`)."""
     rings = [k for k, c in enumerate(contours) if c.closed and len(c.points) >= 4]
     polygons = {k: shapely.Polygon(contours[k].points) for k in rings}
     lines = None
@@ -185,7 +192,9 @@ def _pocket_moves(one: FloatArray, two: FloatArray, tree: cKDTree, radius: float
     moves = []
     for e in np.argsort(gap)[:POCKET_EDGES]:
         p = np.roll(one, -(e + 1), axis=0)  # starts after the edge, ends before it
-        for f in np.flatnonzero(shapely.distance(around, pocket[e]) <= MOUTH_REACH * radius):
+        near = np.flatnonzero(shapely.distance(around, pocket[e]) <= MOUTH_REACH * radius)
+        for f in near[[_bare_middle(two[g], two[(g + 1) % len(two)], tree, radius)
+                       for g in near]]:
             q = np.roll(two, -(f + 1), axis=0)
             for path in (q, q[::-1]):
                 links = ((p[-1], path[0]), (path[-1], p[0]))
@@ -199,6 +208,14 @@ def _pocket_moves(one: FloatArray, two: FloatArray, tree: cKDTree, radius: float
                               - pocket[e].length - around[f].length)
                     moves.append((detour, len(moves), ring))
     return [ring for *_, ring in sorted(moves, key=lambda m: m[:2])]
+
+
+def _bare_middle(a: FloatArray, b: FloatArray, tree: cKDTree, radius: float) -> bool:
+    """Does the middle half of segment a-b pass `POCKET_BARE` radii from every point
+    somewhere (sampled every tenth of a radius)?"""
+    steps = max(int(np.ceil(np.linalg.norm(b - a) / (0.1 * radius))), 2)
+    t = np.linspace(0.25, 0.75, steps + 1)[:, None]
+    return bool(tree.query(a + t * (b - a))[0].max() >= POCKET_BARE * radius)
 
 
 def _segments(xy: FloatArray) -> np.ndarray:
