@@ -63,34 +63,36 @@ def test_slits_and_limbs_in_any_direction_give_one_valid_closed_outline(slit, li
     _one_closed_outline(pts, result)
 
 
-def test_a_stroke_of_a_line_drawing_stays_a_stroke():
-    # a ring and a stroke meeting it at a T, each sampled as densely: a drawing, not a slit
+def _ring_and_stroke(spacing: float) -> np.ndarray:
+    """A unit ring and a stroke meeting it at a T, each sampled every ``spacing``."""
     t = np.linspace(0, 2 * np.pi, 400, endpoint=False)
     ring = np.column_stack([np.cos(t), np.sin(t)])
     stroke = np.linspace([1.0, 0.0], [2.0, 0.0], 40)
-    pts = np.vstack([sample_rings([ring], spacing=EPS / 3, seed=2),
-                     sample_rings([stroke], spacing=EPS / 3, closed=[False], seed=3)])
-    result = wavepoly.fit(pts, EPS)
+    return np.vstack([sample_rings([ring], spacing=spacing, seed=2),
+                      sample_rings([stroke], spacing=spacing, closed=[False], seed=3)])
+
+
+def _drawn_length(result) -> float:
+    return sum(shapely.length(shapely.LineString(c.vertices)) for c in result.contours)
+
+
+def test_a_stroke_of_a_line_drawing_stays_a_stroke():
+    # a ring and a stroke each sampled as densely: a drawing, not a slit
+    result = wavepoly.fit(_ring_and_stroke(EPS / 3), EPS)
     assert independent_problems(result) == []
     # drawn once (2 pi + 1 long), not out and back as a sliver (2 pi + 2)
-    drawn = sum(shapely.length(shapely.LineString(c.vertices)) for c in result.contours)
-    assert drawn < 2 * np.pi + 1.5
-
+    assert _drawn_length(result) < 2 * np.pi + 1.5
 
 
 def test_a_stroke_on_an_uneven_sampling_stays_a_stroke():
     # the same drawing thinned to a quarter across: beside its root the stroke holds as many
     # points per length as the ring, though more than the ring's sparse side
-    t = np.linspace(0, 2 * np.pi, 400, endpoint=False)
-    ring = np.column_stack([np.cos(t), np.sin(t)])
-    stroke = np.linspace([1.0, 0.0], [2.0, 0.0], 40)
-    pts = np.vstack([sample_rings([ring], spacing=EPS / 6, seed=2),
-                     sample_rings([stroke], spacing=EPS / 6, closed=[False], seed=3)])
+    pts = _ring_and_stroke(EPS / 6)
     keep = np.random.default_rng(4).uniform(size=len(pts)) < 1 - 0.375 * (2 - pts[:, 0]) / 1.5
     result = wavepoly.fit(pts[keep], EPS)
     assert independent_problems(result) == []
-    drawn = sum(shapely.length(shapely.LineString(c.vertices)) for c in result.contours)
-    assert drawn < 2 * np.pi + 1.5
+    assert _drawn_length(result) < 2 * np.pi + 1.5
+
 
 def test_a_loop_with_a_tail_down_a_slit_is_walked_out_and_back():
     t = np.linspace(0.02, 2 * np.pi - 0.02, 400)
