@@ -442,3 +442,35 @@ def test_a_silhouette_given_three_times_over_comes_out_as_given_once(seed):
     assert [c.closed for c in thrice.contours] == [c.closed for c in once.contours]
     assert len(thrice.contours) == len(rings)
     assert thrice.validity.valid and len(thrice.outliers) == 0
+
+
+def test_small_sharp_shapes_are_not_read_as_noise():
+    """Two triangles 6 tolerances across, sampled with noise ε / 4: the windows that measure
+    the noise spanned both sides and a corner and read a spread of a tolerance, the curves
+    ran through the middle, and 73 of 116 points were left out; read as a clean sample they
+    are the two triangles."""
+    import wavepoly
+
+    from .conftest import distance_to_output
+    from .truth import independent_problems
+
+    a = np.array([[0, 0], [6, 0], [3, -6]], float)
+    pts = sample_rings([a, a + [8.0, 0]], spacing=1 / 3, noise=0.25, seed=1)
+    result = wavepoly.fit(pts, 1.0)
+    assert [c.closed for c in result.contours] == [True, True]
+    assert len(result.outliers) == 0 and independent_problems(result) == []
+    assert distance_to_output(pts, result).max() <= 1.0 + 1e-9
+    assert any("read as an exact sample" in n for n in result.notes)
+
+
+@pytest.mark.parametrize("sigma, spacing", [(0.8, 0.33), (1.0, 0.2), (2.0, 0.1)])
+def test_a_band_wider_than_the_tolerance_is_still_read_through_its_middle(sigma, spacing):
+    # read as a clean sample it would zigzag through the band (4-9 % of it beyond the tolerance)
+    import wavepoly
+
+    t = np.linspace(0, 2 * np.pi, 400, endpoint=False)
+    ring = 20 * np.column_stack([np.cos(t), np.sin(t)])
+    pts = sample_rings([ring], spacing=spacing, noise=sigma, seed=1)
+    result = wavepoly.fit(pts, 1.0)
+    assert not any("read as an exact sample" in n for n in result.notes)
+    assert any("run through the middle of the noise" in n for n in result.notes)
