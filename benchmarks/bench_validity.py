@@ -16,6 +16,7 @@ from wavepoly.geometry import turn_backs
 from wavepoly.samples import TrueShape, glyph_outlines, sample_rings
 
 from .common import ROOT, SHARED, table
+from .unseen import unseen_sweep
 
 #: A tooth's edges are shorter than this many tolerances.
 TOOTH_EDGE = 2.0
@@ -173,7 +174,8 @@ def run() -> str:
                      "teeth", "free space", "outliers", "vertices", "vs covering min-#",
                      "seconds"], rows)
             + "\n\n" + glyph_sweep() + "\n\n" + silhouette_sweep() + "\n\n" + blob_sweep()
-            + "\n\n" + coarse_sweep() + "\n\n" + laser_sweep())
+            + "\n\n" + unseen_sweep(truth, _one_per_ring) + "\n\n" + coarse_sweep()
+            + "\n\n" + laser_sweep())
 
 
 #: The glyph sweep: fonts bundled with matplotlib, and samplings (spacing, noise, ε) of glyphs

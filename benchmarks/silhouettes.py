@@ -99,7 +99,6 @@ def blobs(seed: int, size_fraction: float, pixels: int = 256, volume: float = 0.
     size wide, the densest ``volume`` share of the image kept): rounded shapes a few pixels
     to a third of the image across, touching one another now and then at a pixel's corner.
     Unlike `silhouette`, nobody designed them; in pixel units, outermost first."""
-    import contourpy
     from scipy.ndimage import gaussian_filter
 
     rng = np.random.default_rng(seed)
@@ -107,7 +106,16 @@ def blobs(seed: int, size_fraction: float, pixels: int = 256, volume: float = 0.
     mask = np.zeros((pixels, pixels))
     mask[tuple((pixels * rng.random((2, n_seeds))).astype(int))] = 1.0
     mask = gaussian_filter(mask, sigma=0.25 * pixels * size_fraction)
-    image = np.pad((mask >= np.percentile(mask, 100 * (1 - volume))).astype(float), 2)
+    return traced_mask(mask >= np.percentile(mask, 100 * (1 - volume)))
+
+
+def traced_mask(mask: np.ndarray) -> list[np.ndarray]:
+    """The outlines of a boolean image's True regions, traced at half a pixel's height
+    (rings enclosing fewer than `BITMAP_MIN_AREA` pixels left out), in pixel units (x the
+    column, y the row, from the padded corner), outermost first."""
+    import contourpy
+
+    image = np.pad(np.asarray(mask, dtype=float), 2)
     lines = contourpy.contour_generator(z=image).lines(0.5)
     traced = [line[:-1] for line in lines if abs(shapely.Polygon(line).area) >= BITMAP_MIN_AREA]
     return sorted(traced, key=lambda r: -abs(shapely.Polygon(r).area))

@@ -41,3 +41,21 @@ def test_free_space_is_the_drawn_length_far_from_every_point():
     line = _contour([[0.0, 0.0], [10.0, 0.0]], closed=False)
     assert abs(_free_space_share([line], pts, eps=0.5) - 0.1) < 0.01
     assert _free_space_share([_contour([[0.0, 0.0], [4.0, 0.0]], closed=False)], pts, 0.5) == 0
+
+
+def test_an_unseen_sweep_row_counts_right_and_invalid_results():
+    from benchmarks.bench_validity import _truth
+    from benchmarks.silhouettes import traced_mask
+    from benchmarks.unseen import _row
+
+    mask = np.zeros((60, 60), bool)
+    mask[10:50, 10:30] = mask[20:40, 35:50] = True  # two rectangles, 5 pixels apart
+    rings = traced_mask(mask)
+    assert len(rings) == 2
+    name, eps, noise, right, invalid, _ = _row("two boxes", [rings, rings[:1]], 1.5, 0.125,
+                                               _truth(), _one_per_ring)
+    assert (right, invalid) == ("2/2", 0)
+    # a counter that finds every result wrong counts them so
+    _, _, _, right, _, _ = _row("two boxes", [rings], 1.5, 0.125, _truth(),
+                                lambda *a: False)
+    assert right == "0/1"
