@@ -4,6 +4,7 @@ by rings only where each ring is drawn by a contour of its own."""
 from types import SimpleNamespace
 
 import numpy as np
+import shapely
 
 from benchmarks.bench_validity import _free_space_share, _one_per_ring
 
@@ -59,3 +60,14 @@ def test_an_unseen_sweep_row_counts_right_and_invalid_results():
     _, _, _, right, _, _ = _row("two boxes", [rings], 1.5, 0.125, _truth(),
                                 lambda *a: False)
     assert right == "0/1"
+
+
+def test_the_star_distance_sees_an_edge_cut_across_between_spikes():
+    from benchmarks.bench_validity import _star_distance
+    from benchmarks.silhouettes import star
+
+    outline = star(5, 0.2)
+    assert _star_distance(outline, SimpleNamespace(contours=[_contour(outline)])) < 1e-9
+    # the hull of the star: its vertices all lie on the star, its edges cut across the gaps
+    hull = np.asarray(shapely.MultiPoint(outline).convex_hull.exterior.coords)[:-1]
+    assert _star_distance(outline, SimpleNamespace(contours=[_contour(hull)])) > 0.5
