@@ -162,15 +162,17 @@ def _first_pocket(contours: list[OrderedContour], points: FloatArray,
     ring's edges within `MOUTH_REACH` radii of each that cross a mouth (`POCKET_BARE`), the
     one of least detour whose two links run along points (`gaps.is_supported`)."""
     rings = [k for k, c in enumerate(contours) if c.closed and len(c.points) >= 4]
-    polygons = {k: shapely.Polygon(contours[k].points) for k in rings}
+    polygons = [shapely.Polygon(contours[k].points) for k in rings]
+    thin = [i for i, p in enumerate(polygons) if 2 * p.area <= POCKET_WIDTH * radius * p.length]
+    if len(rings) < 2 or not thin:
+        return None
+    around = shapely.STRtree(polygons)  # the rings that may hold a pocket: those it lies in
     lines = None
-    for a in rings:
-        if 2 * polygons[a].area > POCKET_WIDTH * radius * polygons[a].length:
-            continue
-        for b in rings:
-            if (b == a or polygons[a].distance(polygons[b].exterior) > POCKET_GAP * radius
-                    or not polygons[b].contains(polygons[a])):
+    for i in thin:
+        for j in around.query(polygons[i], predicate="within"):
+            if j == i or polygons[i].distance(polygons[j].exterior) > POCKET_GAP * radius:
                 continue
+            a, b = rings[i], rings[j]
             if lines is None:
                 lines = shapely.STRtree([curve_line(c.points, c.closed) for c in contours])
             for ring in _pocket_moves(contours[a].points, contours[b].points, tree(), radius):
