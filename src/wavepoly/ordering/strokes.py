@@ -35,7 +35,7 @@ from ..types import FloatArray, IntArray, OrderedContour, Ordering
 from .neighbourhoods import point_clusters
 
 #: A stroke spans at least this many tolerances (the issue's bar, as for islands).
-STROKE_EXTENT = 4.0
+STROKE_EXTENT = 3.0
 #: A point lies on a stroke when at least this many outliers (itself included) are within the
 #: radius: points half a radius apart along a line have 4 or 5; strays about a wall, 1 or 2.
 STROKE_NEIGHBOURS = 4
