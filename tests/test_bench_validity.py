@@ -63,7 +63,7 @@ def test_an_unseen_sweep_row_counts_right_and_invalid_results():
 
 
 def test_the_star_distance_sees_an_edge_cut_across_between_spikes():
-    from benchmarks.bench_validity import _star_distance
+    from benchmarks.coarse import _star_distance
     from benchmarks.silhouettes import star
 
     outline = star(5, 0.2)
