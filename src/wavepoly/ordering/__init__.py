@@ -284,16 +284,17 @@ def _exact_reading(ordering: Ordering, pts: FloatArray, tolerance: float | None,
     measure the noise with both sides and a corner, which look like scatter. Kept where it
     leaves at most `EXACT_LOSS` of the points out and does not fall apart (`FRAGMENTS`);
     else None."""
-    if (tolerance is None or not ordering.through_the_middle
-            or _left_out(ordering, pts, tolerance) <= MIDDLE_LOSS * len(pts)):
+    if tolerance is None or not ordering.through_the_middle:
+        return None
+    left_out = _left_out(ordering, pts, tolerance)
+    if left_out <= MIDDLE_LOSS * len(pts):
         return None
     exact = read(sparse=True)
     if (_left_out(exact, pts, tolerance) > EXACT_LOSS * len(pts)
             or len(exact.contours) >= FRAGMENTS * max(len(ordering.contours), 1)):
         return None
     note = (f"read as an exact sample: read as noise (a spread of {ordering.noise:.3g}), the "
-            f"curves ran through the middle and left {_left_out(ordering, pts, tolerance)} "
-            f"points out")
+            f"curves ran through the middle and left {left_out} points out")
     return replace(exact, notes=(*exact.notes, note))
 
 

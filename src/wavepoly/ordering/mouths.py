@@ -187,16 +187,19 @@ def _pocket_moves(one: FloatArray, two: FloatArray, tree: cKDTree, radius: float
     it whose links run along points, the least detour first. The pocket's nodes that
     step back by less than `POCKET_STEP` radii are dropped first, and a ring is untangled
     where the pocket's own kinks cross it."""
-    step = np.linalg.norm(one - np.roll(one, 1, axis=0), axis=1)
-    one = one[step > POCKET_STEP * radius] if (step > POCKET_STEP * radius).sum() >= 4 else one
+    kept = np.linalg.norm(one - np.roll(one, 1, axis=0), axis=1) > POCKET_STEP * radius
+    one = one[kept] if kept.sum() >= 4 else one
     pocket, around = _segments(one), _segments(two)
     gap = shapely.distance(pocket, shapely.LinearRing(two))
+    bare: dict[int, bool] = {}  # whether each of two's edges crosses a mouth, as looked at
     moves = []
     for e in np.argsort(gap)[:POCKET_EDGES]:
         p = np.roll(one, -(e + 1), axis=0)  # starts after the edge, ends before it
         near = np.flatnonzero(shapely.distance(around, pocket[e]) <= MOUTH_REACH * radius)
-        for f in near[[_bare_middle(two[g], two[(g + 1) % len(two)], tree, radius)
-                       for g in near]]:
+        for g in near:
+            if g not in bare:
+                bare[g] = _bare_middle(two[g], two[(g + 1) % len(two)], tree, radius)
+        for f in (g for g in near if bare[g]):
             q = np.roll(two, -(f + 1), axis=0)
             for path in (q, q[::-1]):
                 links = ((p[-1], path[0]), (path[-1], p[0]))
