@@ -328,7 +328,7 @@ def blob_sweep() -> str:
     counted by rings as the silhouettes are, and by geometry (closed, valid, no outliers,
     within `BLOB_HAUSDORFF` ε of the truth), which forgives two blobs within a couple of ε of
     each other coming out as one outline."""
-    from .silhouettes import blobs, sample
+    from .silhouettes import blobs, sample, shape_distance
 
     truth = _truth()
     eps = BLOB_PIXELS * np.sqrt(2) / DIAGONAL_PER_TOLERANCE
@@ -346,10 +346,7 @@ def blob_sweep() -> str:
             clean = (not problems and len(res.outliers) == 0
                      and all(c.closed for c in res.contours))
             by_rings += clean and _one_per_ring(rings, res.contours, eps)
-            drawn = shapely.MultiLineString([np.vstack([c.vertices, c.vertices[:1]])
-                                             for c in res.contours])
-            true = shapely.MultiLineString([np.vstack([r, r[:1]]) for r in rings])
-            by_shape += clean and true.hausdorff_distance(drawn) <= BLOB_HAUSDORFF * eps
+            by_shape += clean and shape_distance(rings, res.contours) <= BLOB_HAUSDORFF * eps
         rows.append([f"{size:g}", f"{noise:g} ε", f"{by_rings}/{BLOB_SEEDS}",
                      f"{by_shape}/{BLOB_SEEDS}", invalid, time.perf_counter() - t0])
     return ("### Blob sweep\n\nRandom blobs in a 256-pixel image, as scikit-image's "

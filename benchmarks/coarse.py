@@ -5,13 +5,12 @@ where a neighbourhood of the tolerance's radius may span both walls of a part th
 from __future__ import annotations
 
 import numpy as np
-import shapely
 
 import wavepoly
 from wavepoly.samples import sample_rings
 
 from .common import SHARED, table
-from .silhouettes import star
+from .silhouettes import shape_distance, star
 
 #: A star is drawn by its shape when the drawn and the true outlines are within this many ε
 #: of each other both ways (as the blob sweep's shapes: noise ε / 10 puts no point that far).
@@ -52,7 +51,7 @@ def coarse_sweep(truth) -> str:
                     ok = (not problems and len(res.outliers) == 0
                           and [c.closed for c in res.contours] == [True])
                     right += ok
-                    shaped += ok and _star_distance(outline, res) <= STAR_HAUSDORFF * eps
+                    shaped += ok and shape_distance([outline], res.contours) <= STAR_HAUSDORFF * eps
                     total += 1
         rows.append([f"stars, every ε / {1 / spacing:g}, noise ε / {1 / noise:g}",
                      f"{right}/{total} right ({shaped} by shape), {invalid} invalid"]
@@ -83,10 +82,3 @@ def coarse_sweep(truth) -> str:
             + table(["case"] + [f"ε = {100 * s:g} % of the diagonal" for s in COARSE_SHARES],
                     rows))
 
-
-def _star_distance(outline: np.ndarray, result) -> float:
-    """Hausdorff distance between a star's outline and the drawn contours, both densified
-    (a vertex-only distance misses an edge that cuts across the space between spikes)."""
-    drawn = shapely.MultiLineString([np.vstack([c.vertices, c.vertices[:1]]) if c.closed
-                                     else c.vertices for c in result.contours])
-    return float(shapely.hausdorff_distance(shapely.LinearRing(outline), drawn, densify=0.01))

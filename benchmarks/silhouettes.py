@@ -135,3 +135,17 @@ def star(spikes: int, spike_width: float, spike_length: float = 1.5) -> np.ndarr
                                        base + (0.1 + spike_length) * along,
                                        base + spike_width / 2 * across]))
     return np.asarray(shapely.union_all([body, *wedges]).exterior.coords)[:-1]
+
+
+#: Shape distances are measured along the lines, each edge cut into this many pieces: a
+#: vertex-only distance misses an edge that cuts across empty space between its ends.
+DENSIFY_PIECES = 100
+
+
+def shape_distance(rings: list[np.ndarray], contours) -> float:
+    """Hausdorff distance between the true ``rings`` and the drawn ``contours`` (closed ones
+    as rings, open ones as lines), both densified (`DENSIFY_PIECES`)."""
+    drawn = shapely.MultiLineString([np.vstack([c.vertices, c.vertices[:1]]) if c.closed
+                                     else c.vertices for c in contours])
+    true = shapely.MultiLineString([np.vstack([r, r[:1]]) for r in rings])
+    return float(shapely.hausdorff_distance(true, drawn, densify=1 / DENSIFY_PIECES))

@@ -53,21 +53,20 @@ def test_an_unseen_sweep_row_counts_right_and_invalid_results():
     mask[10:50, 10:30] = mask[20:40, 35:50] = True  # two rectangles, 5 pixels apart
     rings = traced_mask(mask)
     assert len(rings) == 2
-    name, eps, noise, right, invalid, _ = _row("two boxes", [rings, rings[:1]], 1.5, 0.125,
-                                               _truth(), _one_per_ring)
-    assert (right, invalid) == ("2/2", 0)
-    # a counter that finds every result wrong counts them so
-    _, _, _, right, _, _ = _row("two boxes", [rings], 1.5, 0.125, _truth(),
-                                lambda *a: False)
-    assert right == "0/1"
+    name, eps, noise, right, shaped, invalid, _ = _row("two boxes", [rings, rings[:1]], 1.5,
+                                                       0.125, _truth(), _one_per_ring)
+    assert (right, shaped, invalid) == ("2/2", "2/2", 0)
+    # a counter that finds every result wrong counts them so; their shapes are still right
+    _, _, _, right, shaped, _, _ = _row("two boxes", [rings], 1.5, 0.125, _truth(),
+                                        lambda *a: False)
+    assert (right, shaped) == ("0/1", "1/1")
 
 
-def test_the_star_distance_sees_an_edge_cut_across_between_spikes():
-    from benchmarks.coarse import _star_distance
-    from benchmarks.silhouettes import star
+def test_the_shape_distance_sees_an_edge_cut_across_between_spikes():
+    from benchmarks.silhouettes import shape_distance, star
 
     outline = star(5, 0.2)
-    assert _star_distance(outline, SimpleNamespace(contours=[_contour(outline)])) < 1e-9
+    assert shape_distance([outline], [_contour(outline)]) < 1e-9
     # the hull of the star: its vertices all lie on the star, its edges cut across the gaps
     hull = np.asarray(shapely.MultiPoint(outline).convex_hull.exterior.coords)[:-1]
-    assert _star_distance(outline, SimpleNamespace(contours=[_contour(hull)])) > 0.5
+    assert shape_distance([outline], [_contour(hull)]) > 0.5

@@ -474,3 +474,55 @@ def test_a_band_wider_than_the_tolerance_is_still_read_through_its_middle(sigma,
     result = wavepoly.fit(pts, 1.0)
     assert not any("read as an exact sample" in n for n in result.notes)
     assert any("run through the middle of the noise" in n for n in result.notes)
+
+
+def test_a_parabolas_spread_leaves_out_the_curves_bend():
+    """`bend_free_spread`: about their line, points on a bend spread by the bend's sagitta;
+    about a parabola along it, by their noise only. On a straight noisy line the two agree."""
+    from wavepoly.ordering.neighbourhoods import (
+        bend_free_spread,
+        cell_atoms,
+        perpendicular_offsets,
+        regression_step,
+    )
+
+    rng = np.random.default_rng(3)
+    x = np.linspace(-1, 1, 4001)
+    for bend, sigma in ((0.0, 0.02), (0.4, 0.0), (0.4, 0.02)):
+        pts = np.column_stack([x, bend * x**2 + rng.normal(0, sigma, len(x))])
+        atoms = cell_atoms(pts, 1 / 3)  # as `noise_level` sums them: windows of 3 radii
+        xy, tangent, _, spread = regression_step(np.array([[0.0, 0.0]]), atoms, 1.0)
+        offsets = perpendicular_offsets(xy, tangent, atoms, 1.0)
+        free = bend_free_spread(xy, tangent, atoms, 1.0, offsets)[0]
+        # (an atom summarizes a cell of its points, which along a steep bend also spread
+        # across the window's line: 0.005 here)
+        assert free == pytest.approx(sigma, abs=0.15 * sigma + 0.006)
+        if bend:
+            assert spread[0] > 5 * max(free, sigma)  # the line's spread counts the bend
+        else:
+            assert spread[0] == pytest.approx(free, rel=0.05)
+
+
+def test_small_shapes_with_noise_are_drawn_as_their_shapes():
+    """Two triangles and a disk 5 tolerances across, sampled every ε / 3 with noise ε / 4.
+    Over windows of three radii their corners and bends looked like a spread of 0.7
+    tolerances; neighbourhoods 5 x that wide took in whole shapes, and the march drew one
+    open piece and left 5 points out. The spread about a parabola along each window sizes
+    them, and the three shapes come out."""
+    import wavepoly
+
+    from .truth import independent_problems
+
+    size = 5.0
+    t = np.linspace(0, 2 * np.pi, 60, endpoint=False)
+    disk = [2.5 * size, 0.0] + size / 2 * np.column_stack([np.cos(t), np.sin(t)])
+    triangle = np.array([[0, 0], [size, 0], [size / 2, -size]])
+    rings = [triangle, disk, triangle + [0, -2 * size]]
+    pts = sample_rings(rings, spacing=1 / 3, noise=0.25, seed=2)
+    result = wavepoly.fit(pts, 1.0)
+    assert [c.closed for c in result.contours] == [True, True, True]
+    assert len(result.outliers) == 0 and independent_problems(result) == []
+    drawn = shapely.MultiLineString([np.vstack([c.vertices, c.vertices[:1]])
+                                     for c in result.contours])
+    true = shapely.MultiLineString([np.vstack([r, r[:1]]) for r in rings])
+    assert shapely.hausdorff_distance(true, drawn, densify=0.01) <= 1.5

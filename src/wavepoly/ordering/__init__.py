@@ -78,7 +78,13 @@ from .marching import (
     wide_nodes,
 )
 from .neighbourhoods import Nodes, nodes_with_points, perpendicular_kurtosis
-from .noise import noise_adaptive_nodes, noise_at, runs_through_the_middle
+from .noise import (
+    MAX_REACH,
+    NOISE_REACH,
+    noise_adaptive_nodes,
+    noise_at,
+    runs_through_the_middle,
+)
 from .spacing import (
     SPACING_SUBSET,
     curve_spacing,
@@ -337,9 +343,7 @@ def _read(pts: FloatArray, radius: float, given: float, seed: int, min_points: i
                                                                scatter)
     corner_gap = max(CORNER_GAP * radius, CORNER_NOISE * nodes.noise) if middle else None
     if nodes.reach > radius:
-        notes.append(f"noisy scan (the points spread {nodes.noise:.3g} about the curves over a "
-                     f"neighbourhood): neighbourhoods widened from {radius:.4g} to "
-                     f"{nodes.reach:.4g} to follow the curves")
+        notes.append(_widening_note(nodes, radius))
     noisy = not clean
     if noisy:
         nodes = nodes_with_points(nodes, atoms, NODE_POINTS, DENSE_NODE)
@@ -374,3 +378,16 @@ def _read(pts: FloatArray, radius: float, given: float, seed: int, min_points: i
         contours += strokes
     return Ordering(contours, outliers, radius, merged, tuple(notes), nodes.noise, scatter,
                     middle, clean)
+
+
+def _widening_note(nodes: Nodes, radius: float) -> str:
+    """The note that a noisy scan's neighbourhoods were widened, and by what spread: less
+    than the spread over a neighbourhood where the curves' bends made up much of it
+    (`wavepoly.ordering.noise.BEND_SHARE`)."""
+    sizing = nodes.reach / NOISE_REACH
+    bends = (f", {sizing:.3g} about the curves' bends" if sizing < nodes.noise
+             and nodes.reach < MAX_REACH * radius else "")
+    return (f"noisy scan (the points spread {nodes.noise:.3g} about the curves over a "
+            f"neighbourhood{bends}): neighbourhoods widened from {radius:.4g} to "
+            f"{nodes.reach:.4g} to follow the curves")
+

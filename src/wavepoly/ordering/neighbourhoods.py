@@ -24,6 +24,9 @@ from ..validate import column_bounds
 ATOM_DIVISIONS = 8
 #: An atom per cell pays off only with at least this many points per cell on average.
 MIN_PER_CELL = 2.0
+#: A parabola's normal equations (along-line coordinates in reaches, so within [-1, 1]) are
+#: singular below this determinant per cubed weight: all points at one or two stations.
+SINGULAR = 1e-9
 
 
 @dataclass(frozen=True)
@@ -206,6 +209,38 @@ def perpendicular_kurtosis(centre: FloatArray, tangent: FloatArray, atoms: Atoms
     m2 = np.bincount(owner, w * offset**2, k) / total
     m4 = np.bincount(owner, w * offset**4, k) / total
     return np.divide(m4, m2**2, out=np.zeros_like(m4), where=m2**2 > 0)
+
+
+def inner_scatter(o: Offsets, tangent: FloatArray, atoms: Atoms) -> FloatArray:
+    """Each atom's own scatter (summed over its points) across its line."""
+    sc = atoms.scatter[o.atom]
+    n = np.column_stack([-tangent[o.owner, 1], tangent[o.owner, 0]])
+    return n[:, 0] ** 2 * sc[:, 0] + 2 * n[:, 0] * n[:, 1] * sc[:, 1] + n[:, 1] ** 2 * sc[:, 2]
+
+
+def bend_free_spread(centre: FloatArray, tangent: FloatArray, atoms: Atoms, reach: float,
+                     offsets: Offsets) -> FloatArray:
+    """RMS offset of the points within ``reach`` of each line (``centre``, ``tangent``) about
+    the parabola through them, ``offset ~ a + b t + c t**2`` along the line (weighted least
+    squares, one 3 x 3 system per line): the scatter across the curve without the curve's own
+    bend, which a line's spread (`principal_axes`) counts as scatter. Where the system is
+    singular (points on fewer than 3 stations along the line) the spread is about the mean."""
+    o, k = offsets, offsets.lines
+    t = np.einsum("nd,nd->n", atoms.xy[o.atom] - centre[o.owner], tangent[o.owner]) / reach
+    w, y = o.weight, o.offset
+    tp = [np.bincount(o.owner, w * t**p, k) for p in range(5)]
+    normal = np.stack([np.stack([tp[i + j] for j in range(3)], -1) for i in range(3)], -2)
+    rhs = np.stack([np.bincount(o.owner, w * y * t**p, k) for p in range(3)], -1)
+    solvable = np.abs(np.linalg.det(normal)) > SINGULAR * np.maximum(tp[0], 1.0) ** 3
+    coef = np.zeros((k, 3))
+    coef[solvable] = np.linalg.solve(normal[solvable], rhs[solvable][..., None])[..., 0]
+    coef[~solvable, 0] = rhs[~solvable, 0] / np.maximum(tp[0][~solvable], 1e-300)
+    residual = y - (coef[o.owner, 0] + coef[o.owner, 1] * t + coef[o.owner, 2] * t**2)
+    total = np.maximum(np.bincount(o.owner, w, k), 1e-300)
+    inner = np.bincount(o.owner, inner_scatter(o, tangent, atoms), k)
+    # an atom of points on one line has an inner scatter across it of zero, give or take
+    # rounding
+    return np.sqrt(np.maximum(np.bincount(o.owner, w * residual**2, k) + inner, 0.0) / total)
 
 
 def point_clusters(xy: FloatArray, reach: float) -> IntArray:

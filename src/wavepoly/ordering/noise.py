@@ -2,7 +2,9 @@
 
 On a noisy scan (bell-shaped scatter about the curves) the neighbourhoods reach `NOISE_REACH`
 x the noise instead of the radius, up to `MAX_REACH` radii, so that the tangent follows the
-curve, not the scatter across it.
+curve, not the scatter across it. Where the curves bend within the windows the noise is
+measured over (a crab's legs, shapes a few tolerances across), the noise that sizes them is
+the spread about a parabola along each window, not about its line (`BEND_SHARE`).
 """
 
 from __future__ import annotations
@@ -14,6 +16,7 @@ from .neighbourhoods import (
     ATOM_DIVISIONS,
     Atoms,
     Nodes,
+    bend_free_spread,
     cell_atoms,
     cells,
     perpendicular_kurtosis,
@@ -69,6 +72,13 @@ BELL_MARGIN = 2.75
 #: about a thin core (the Intel map's walls, seen from many poses: 1.5), not the curve's own
 #: shape, which makes it wider (the crab's legs: 3.2).
 HALO_SPREAD = 2.5
+#: Where the spread about a parabola along the window (`bend_free_spread`) is below this share
+#: of the spread about its line, the curves' own bends make up the rest, and the parabola's
+#: spread sizes the neighbourhoods: the crab's legs 0.75, random shapes 4-8 tolerances across
+#: 0.59-0.79 (a spread of 0.65 tolerances where the noise was 0.25), fish.txt's wide band
+#: 0.82. On straight walls the parabola takes out nothing but its own sampling error (laser
+#: maps: 0.96-1.0), and the line's spread stays, so that those neighbourhoods keep their size.
+BEND_SHARE = 0.9
 #: Seeds at which the noise is measured: fewer (600) made the estimate wobble enough to raise
 #: false merge notes on noisy glyphs.
 NOISE_SEEDS = 2000
@@ -82,16 +92,18 @@ def noise_adaptive_nodes(pts: FloatArray, radius: float, sparse: bool = False,
     the atoms they were summed over, and the points' own scatter (`noise_level`).
 
     The neighbourhoods have the fixed ``radius``, or on a noisy scan `NOISE_REACH` x the noise
-    level (up to `MAX_REACH` x radius), so that they stay longer along the curve than across it.
+    level (up to `MAX_REACH` x radius), so that they stay longer along the curve than across it;
+    the noise level less the curves' bends where those make up much of it (`BEND_SHARE`).
     A ``sparse`` sample (its radius set by the point spacing, not the tolerance) has no
     measurable noise: a window of a few points measures the curve's turns. ``min_window``:
     the narrowest window the scatter is measured over.
     """
     atoms = cell_atoms(pts, radius)
     xy = _cell_centroids(atoms)
-    noise, scatter = (0.0, 0.0) if sparse else noise_level(xy, atoms, radius, NOISE_SEEDS,
-                                                           min_window)
-    reach = min(max(radius, NOISE_REACH * noise), MAX_REACH * radius)
+    noise, scatter, bend_free = ((0.0, 0.0, 0.0) if sparse else
+                                 noise_level(xy, atoms, radius, NOISE_SEEDS, min_window))
+    sizing = bend_free if bend_free < BEND_SHARE * noise else noise
+    reach = min(max(radius, NOISE_REACH * sizing), MAX_REACH * radius)
     if reach > radius:  # coarser atoms keep the wider neighbourhoods' sums cheap
         atoms = cell_atoms(pts, reach, min_per_cell=1.0)
     for _ in range(REGRESSION_PASSES):
@@ -129,7 +141,7 @@ def neighbourhood_spread(pts: FloatArray, radius: float) -> float:
 def noise_at(pts: FloatArray, radius: float, min_window: float = 0.0) -> tuple[float, float]:
     """`noise_level` as `noise_adaptive_nodes` measures it at ``radius``, without the nodes."""
     atoms = cell_atoms(pts, radius)
-    return noise_level(_cell_centroids(atoms), atoms, radius, NOISE_SEEDS, min_window)
+    return noise_level(_cell_centroids(atoms), atoms, radius, NOISE_SEEDS, min_window)[:2]
 
 
 def _cell_centroids(atoms: Atoms) -> FloatArray:
@@ -140,7 +152,7 @@ def _cell_centroids(atoms: Atoms) -> FloatArray:
 
 
 def noise_level(seeds: FloatArray, atoms: Atoms, radius: float, sample: int = NOISE_SEEDS,
-                min_window: float = 0.0) -> tuple[float, float]:
+                min_window: float = 0.0) -> tuple[float, float, float]:
     """Typical spread of the points about their curve over a neighbourhood, and their own
     scatter about it: the median perpendicular spread about the regression lines at a sample
     of the seeds, over `NOISE_WINDOW` radii, then over a window of a few scatters.
@@ -157,16 +169,18 @@ def noise_level(seeds: FloatArray, atoms: Atoms, radius: float, sample: int = NO
     measures the curve's own bend (a crab's legs) and clutter beside it, so that figure grows
     with the radius. The second is measured at the same seeds over `NOISE_SIGMAS` x the
     scatter found (down to ``min_window``, a few point spacings): the points' own scatter,
-    about the same whatever the tolerance, against which a tolerance is judged.
+    about the same whatever the tolerance, against which a tolerance is judged. The third is
+    the first about a parabola along each window instead of its line (`bend_free_spread`).
     """
     pick = np.random.default_rng(0).choice(len(seeds), min(sample, len(seeds)), replace=False)
     window = NOISE_WINDOW * radius
     for _ in range(WIDER_WINDOWS + 1):
-        spread, noisy, filled = _scatter_over(seeds[pick], atoms, window, radius)
+        spread, noisy, filled, bend_free = _scatter_over(seeds[pick], atoms, window, radius)
         noise = float(np.median(np.where(noisy, spread, 0.0)))
         if noise > 0 or not filled:
             break
         window *= 2
+    bend_free = float(np.median(np.where(noisy, bend_free, 0.0)))
     scatter = noise
     for _ in range(NARROWER_WINDOWS):  # the seeds found noisy, over narrower windows
         narrower = max(NOISE_SIGMAS * scatter, min_window)
@@ -175,14 +189,15 @@ def noise_level(seeds: FloatArray, atoms: Atoms, radius: float, sample: int = NO
         window = narrower
         spread = _scatter_over(seeds[pick], atoms, window, radius)[0]
         scatter = float(np.median(np.where(noisy, spread, 0.0)))
-    return noise, scatter
+    return noise, scatter, bend_free
 
 
 def _scatter_over(seeds: FloatArray, atoms: Atoms, window: float, radius: float
-                  ) -> tuple[FloatArray, np.ndarray, bool]:
+                  ) -> tuple[FloatArray, np.ndarray, bool, FloatArray]:
     """`noise_level` over one window: each seed's spread (each wall's own where there are
-    two), which seeds' scatter is noise (bell-shaped, or two walls), and whether most other
-    seeds' bands fill the window."""
+    two), which seeds' scatter is noise (bell-shaped, or two walls), whether most other
+    seeds' bands fill the window, and each seed's spread about a parabola along it (each
+    wall's own where there are two)."""
     xy = seeds
     for _ in range(2):
         xy, tangent, _, spread = regression_step(xy, atoms, window)
@@ -194,4 +209,6 @@ def _scatter_over(seeds: FloatArray, atoms: Atoms, window: float, radius: float
     shape = kurtosis < NOISE_KURTOSIS
     # a band that fills the window from side to side may be noise wider than the window
     filled = shape & (spread > FILLED_BAND * window)
-    return np.where(two, own, spread), ~shape | two, bool(filled.sum() > 0.5 * shape.sum())
+    bend_free = bend_free_spread(xy, tangent, atoms, window, offsets)
+    return (np.where(two, own, spread), ~shape | two, bool(filled.sum() > 0.5 * shape.sum()),
+            np.where(two, own, bend_free))

@@ -20,7 +20,7 @@ from scipy.spatial import cKDTree
 
 from ..kernels import two_means_sides
 from ..types import FloatArray
-from .neighbourhoods import Atoms, Nodes, Offsets, perpendicular_offsets
+from .neighbourhoods import Atoms, Nodes, Offsets, inner_scatter, perpendicular_offsets
 
 #: A neighbourhood is tested when its perpendicular spread exceeds this many radii: two walls
 #: a gap d apart spread d / 2, and walls closer than one radius are one curve to the tolerance.
@@ -101,15 +101,8 @@ def _sides(centre: FloatArray, tangent: FloatArray, atoms: Atoms, reach: float,
     weight in the middle half of the gap between the sides' means. (The rounds run compiled:
     `wavepoly.kernels.two_means_sides`.)"""
     o = perpendicular_offsets(centre, tangent, atoms, reach) if offsets is None else offsets
-    inner = _inner_scatter(o, tangent, atoms)
+    inner = inner_scatter(o, tangent, atoms)
     return two_means_sides(o.owner, o.offset, o.weight, inner, o.lines, SPLIT_ROUNDS)
-
-
-def _inner_scatter(o: Offsets, tangent: FloatArray, atoms: Atoms) -> FloatArray:
-    """Each atom's own scatter (summed over its points) across its line."""
-    sc = atoms.scatter[o.atom]
-    n = np.column_stack([-tangent[o.owner, 1], tangent[o.owner, 0]])
-    return n[:, 0] ** 2 * sc[:, 0] + 2 * n[:, 0] * n[:, 1] * sc[:, 1] + n[:, 1] ** 2 * sc[:, 2]
 
 
 def _sides_reference(centre: FloatArray, tangent: FloatArray, atoms: Atoms, reach: float,
@@ -118,7 +111,7 @@ def _sides_reference(centre: FloatArray, tangent: FloatArray, atoms: Atoms, reac
     for the tests."""
     o = perpendicular_offsets(centre, tangent, atoms, reach) if offsets is None else offsets
     owner, offset, w, k = o.owner, o.offset, o.weight, o.lines
-    inner = _inner_scatter(o, tangent, atoms)
+    inner = inner_scatter(o, tangent, atoms)
     total = np.maximum(np.bincount(owner, w, k), 1e-300)
     mean = np.bincount(owner, w * offset, k) / total
     threshold = mean
