@@ -79,6 +79,7 @@ from .marching import (
 )
 from .neighbourhoods import Nodes, nodes_with_points, perpendicular_kurtosis
 from .noise import (
+    HALO_SPREAD,
     MAX_REACH,
     NOISE_REACH,
     noise_adaptive_nodes,
@@ -118,14 +119,21 @@ NOISE_READ_LOSS = 0.25
 
 #: Where the curves ran through the middle of what was measured as noise and left more than
 #: this share of the points out, the scan is read again as a clean sample (`_exact_reading`):
-#: below the tolerance a noisy band leaves a few per cent out (the Intel map at 0.05: 7.8 %),
+#: below the tolerance a noisy band leaves a few per cent out (the Intel map at 0.05: 7.8 %,
+#: the made-up laser maps 3.2-4.8 %; three shapes 3.5 tolerances across: 18 %),
 #: a band far wider than the tolerance most (fish.txt at 0.02: 90 %, whose clean reading
 #: falls apart into 11 pieces)...
-MIDDLE_LOSS = 0.2
+MIDDLE_LOSS = 0.1
 #: ... and the clean reading is kept where it leaves at most this share out: a clean sample's
 #: ordered contours hold every point within the tolerance (the triangles: all), a noisy band
 #: read as clean zigzags through it and leaves 4-9 % beyond (bands of 0.8-2 tolerances).
 EXACT_LOSS = 0.01
+#: A noisy reading is also read again as a clean one where it left outlines open or points
+#: out and its spread over a neighbourhood is more than this many times the points' own
+#: scatter: the shapes' own corners and bends within the windows, not a bell of noise about
+#: the curves (`wavepoly.ordering.noise.HALO_SPREAD`; shapes 3.5-5 tolerances across with
+#: noise a quarter of one: 2.7-6.8; the laser maps 1.2-2.0).
+SHAPE_SPREAD = HALO_SPREAD
 
 #: Where the tolerance spans a few point spacings, the scan is read again at this share of the
 #: radius (at least `SPACINGS_PER_RADIUS` spacings): at the tolerance's radius a
@@ -284,23 +292,30 @@ def _coarser_reading(ordering: Ordering, pts: FloatArray, radius: float, seed: i
 
 def _exact_reading(ordering: Ordering, pts: FloatArray, tolerance: float | None,
                    read: Callable[..., Ordering]) -> Ordering | None:
-    """The scan read as a clean sample (no noise measured), where read as noise its curves
-    ran through the middle and left more than `MIDDLE_LOSS` of the points out (`_left_out`):
-    small shapes with sharp corners (two triangles 6 tolerances across) fill the windows that
-    measure the noise with both sides and a corner, which look like scatter. Kept where it
-    leaves at most `EXACT_LOSS` of the points out and does not fall apart (`FRAGMENTS`);
-    else None."""
-    if tolerance is None or not ordering.through_the_middle:
+    """The scan read as a clean sample (no noise measured), where read as noise it went wrong
+    in one of two ways. Its curves ran through the middle and left more than `MIDDLE_LOSS`
+    of the points out (`_left_out`): small shapes with sharp corners (two triangles 6
+    tolerances across) fill the windows that measure the noise with both sides and a
+    corner, which look like scatter. Or the spread it measured is the shapes' own, not a
+    bell about their curves (`SHAPE_SPREAD` x the points' scatter), and it left outlines
+    open or points out. Kept where it leaves at most `EXACT_LOSS` of the points out, does
+    not fall apart into open pieces (`FRAGMENTS`), and in the second case leaves fewer
+    outlines open or fewer points out; else None."""
+    if tolerance is None or ordering.noise == 0:
         return None
     left_out = _left_out(ordering, pts, tolerance)
-    if left_out <= MIDDLE_LOSS * len(pts):
+    shaped = (not ordering.through_the_middle and ordering.noise > SHAPE_SPREAD * ordering.scatter
+              and (_open(ordering) > 0 or len(ordering.outliers) > 0))
+    if not shaped and not (ordering.through_the_middle and left_out > MIDDLE_LOSS * len(pts)):
         return None
     exact = read(sparse=True)
     if (_left_out(exact, pts, tolerance) > EXACT_LOSS * len(pts)
-            or len(exact.contours) >= FRAGMENTS * max(len(ordering.contours), 1)):
+            or _open(exact) >= FRAGMENTS * max(len(ordering.contours), 1)):
+        return None
+    if shaped and (_open(exact), len(exact.outliers)) >= (_open(ordering), len(ordering.outliers)):
         return None
     note = (f"read as an exact sample: read as noise (a spread of {ordering.noise:.3g}), the "
-            f"curves ran through the middle and left {left_out} points out")
+            f"curves left {left_out} points out and {_open(ordering)} outlines open")
     return replace(exact, notes=(*exact.notes, note))
 
 
