@@ -17,6 +17,7 @@ from wavepoly.samples import TrueShape, glyph_outlines, sample_rings
 
 from .coarse import coarse_sweep
 from .common import ROOT, SHARED, table
+from .silhouettes import DRAWS_NEAR, MIN_RING_EXTENT, drawn_rings
 from .unseen import unseen_sweep
 
 #: A tooth's edges are shorter than this many tolerances.
@@ -232,34 +233,14 @@ SILHOUETTES = 60
 #: ... and exact outlines thinned across x to a share of their density (points at full
 #: density, ε, noise in ε, the share kept on the sparse side).
 THINNED_SAMPLINGS = ((1000, 1 / 150, 0.0, 0.25), (3000, 1 / 300, 1 / 8, 0.25))
-#: A ring must come out as a closed contour of its own when it is at least this many ε across
-#: (its bounding box's diagonal): the issue's "a loop of at least 4 ε extent is a contour". A
-#: smaller one (a sliver of a hole that a slit cut, 1-2 ε across) may merge into its neighbour,
-#: its points still within ε and no outliers.
-MIN_RING_EXTENT = 4.0
-
-
-#: A contour draws a ring where at least `DRAWS_SHARE` of its length runs within `DRAWS_NEAR` ε
-#: of it: a contour round two blobs draws both, each of two contours round one ring draws it.
-DRAWS_NEAR = 1.5
-DRAWS_SHARE = 0.25
-
-
 def _one_per_ring(rings: list[np.ndarray], contours, eps: float) -> bool:
     """Whether every ring at least `MIN_RING_EXTENT` ε across is drawn by exactly one
-    contour, no contour draws two of them, and there are no more contours than rings.
-    Counting alone lets a ring drawn in two pieces make up for two rings drawn as one."""
-    required = [r for r in rings if np.hypot(*np.ptp(r, axis=0)) >= MIN_RING_EXTENT * eps]
-    zones = shapely.buffer([shapely.LinearRing(r) for r in required], DRAWS_NEAR * eps)
-    drawn = np.zeros(len(required), dtype=int)
-    for c in contours:
-        line = (shapely.linearrings(c.vertices) if c.closed and len(c.vertices) >= 3
-                else shapely.linestrings(c.vertices))
-        near = shapely.length(shapely.intersection(line, zones)) >= DRAWS_SHARE * line.length
-        if near.sum() > 1:
-            return False
-        drawn += near
-    return bool((drawn == 1).all()) and len(contours) <= len(rings)
+    contour, no contour draws two of them, and there are no more contours than rings
+    (`benchmarks.silhouettes.drawn_rings`). Counting alone lets a ring drawn in two pieces
+    make up for two rings drawn as one."""
+    draws = drawn_rings(rings, contours, eps)
+    return (bool((draws.sum(axis=1) <= 1).all() and (draws.sum(axis=0) == 1).all())
+            and len(contours) <= len(rings))
 
 
 def silhouette_sweep() -> str:

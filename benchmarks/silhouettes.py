@@ -149,3 +149,27 @@ def shape_distance(rings: list[np.ndarray], contours) -> float:
                                      else c.vertices for c in contours])
     true = shapely.MultiLineString([np.vstack([r, r[:1]]) for r in rings])
     return float(shapely.hausdorff_distance(true, drawn, densify=1 / DENSIFY_PIECES))
+
+
+#: A ring must come out as a closed contour of its own when it is at least this many ε across
+#: (its bounding box's diagonal): the issue's "a loop of at least 4 ε extent is a contour". A
+#: smaller one (a sliver of a hole that a slit cut, 1-2 ε across) may merge into its neighbour,
+#: its points still within ε and no outliers.
+MIN_RING_EXTENT = 4.0
+#: A contour draws a ring where at least `DRAWS_SHARE` of its length runs within `DRAWS_NEAR` ε
+#: of it: a contour round two blobs draws both, each of two contours round one ring draws it.
+DRAWS_NEAR = 1.5
+DRAWS_SHARE = 0.25
+
+
+def drawn_rings(rings: list[np.ndarray], contours, eps: float) -> np.ndarray:
+    """Which of the rings at least `MIN_RING_EXTENT` ε across each contour draws: a (contours,
+    rings) boolean matrix."""
+    required = [r for r in rings if np.hypot(*np.ptp(r, axis=0)) >= MIN_RING_EXTENT * eps]
+    zones = shapely.buffer([shapely.LinearRing(r) for r in required], DRAWS_NEAR * eps)
+    draws = np.zeros((len(contours), len(required)), dtype=bool)
+    for k, c in enumerate(contours):
+        line = (shapely.linearrings(c.vertices) if c.closed and len(c.vertices) >= 3
+                else shapely.linestrings(c.vertices))
+        draws[k] = shapely.length(shapely.intersection(line, zones)) >= DRAWS_SHARE * line.length
+    return draws

@@ -1,4 +1,5 @@
-"""Silhouettes that nobody in the project made: scikit-image's horse and its random shapes.
+"""Silhouettes that nobody in the project made: scikit-image's horse, its random shapes and
+two of its photographs thresholded.
 
 The made-up silhouettes (`benchmarks.silhouettes`) were drawn to hold the hard cases, and the
 ordering was tuned on them; these were not. `skimage.data.horse` is a traced photograph's
@@ -19,7 +20,7 @@ import shapely
 import wavepoly
 
 from .common import table
-from .silhouettes import sample, shape_distance, traced_mask
+from .silhouettes import drawn_rings, sample, shape_distance, traced_mask
 
 #: The horse's samplings: ε as a share of the image's diagonal, noise in ε, seeds of each.
 HORSE_DIVISIONS = (100, 150, 200)
@@ -35,6 +36,13 @@ SHAPE_PIXELS = 256
 #: within an ε (a gap or an overlap narrower than the tolerance is no shape the points tell),
 #: not a line across empty space.
 SHAPE_HAUSDORFF = 1.5
+#: Photographs thresholded at Otsu's level, specks of at most `SPECK_PIXELS` pixels removed:
+#: the coins (24 coins, an interior hole or two, a strip of background along the border), and
+#: the cameraman's dark parts (a coat, a camera, a tripod of legs one to three pixels thin).
+PHOTOS = ("coins", "camera")
+SPECK_PIXELS = 64
+#: Their samplings: (diagonal / ε, noise in ε).
+PHOTO_SAMPLINGS = ((300, 0.0), (300, 0.25), (150, 0.125))
 
 
 def unseen_sweep(truth, right_rings) -> str:
@@ -59,13 +67,21 @@ def unseen_sweep(truth, right_rings) -> str:
                                 allow_overlap=True)[0] < 255 for seed in range(SHAPE_SEEDS)]
         rows.append(_row("random shapes", [traced_mask(m) for m in images],
                          np.hypot(SHAPE_PIXELS, SHAPE_PIXELS) / div, noise, truth, right_rings))
+    photo_rows = [_photo_row(name, div, noise, truth) for name in PHOTOS
+                  for div, noise in PHOTO_SAMPLINGS]
     return ("### Unseen silhouettes\n\n" + __doc__.split("\n\n", 1)[1].strip().replace("\n", " ")
             + " *right*: as the silhouette sweep counts it (every contour closed, one per ring "
             "at least 4 ε across, valid, no outliers); *by shape*: closed, valid, no outliers "
             f"and within {SHAPE_HAUSDORFF:g} ε of the true outlines both ways, measured along "
             "the lines, which forgives two shapes drawn as one outline, or one as two, where "
             "they touch or overlap by less than an ε (the points cannot tell those apart).\n\n"
-            + table(["source", "ε", "noise", "right", "by shape", "invalid", "seconds"], rows))
+            + table(["source", "ε", "noise", "right", "by shape", "invalid", "seconds"], rows)
+            + "\n\nThe photographs (`PHOTOS`), sampled the same way: *rings*: the true rings at "
+            "least 4 ε across; *drawn alone*: those drawn by one closed contour that draws no "
+            "other (a contour draws a ring where a quarter of its length runs within 1.5 ε of "
+            "it); *shape*: the Hausdorff distance between the true and the drawn lines.\n\n"
+            + table(["photo", "ε", "noise", "rings", "drawn alone", "closed/open", "outliers",
+                     "invalid", "shape", "seconds"], photo_rows))
 
 
 def _row(name: str, cases: list[list[np.ndarray]], eps: float, noise: float, truth,
@@ -84,3 +100,32 @@ def _row(name: str, cases: list[list[np.ndarray]], eps: float, noise: float, tru
         shaped += clean and shape_distance(rings, res.contours) <= SHAPE_HAUSDORFF * eps
     return [name, f"{eps:.3g} px", f"{noise:g} ε", f"{right}/{len(cases)}",
             f"{shaped}/{len(cases)}", invalid, time.perf_counter() - t0]
+
+
+def _photo_row(name: str, div: float, noise: float, truth) -> list[object]:
+    """One photograph (`PHOTOS`) thresholded, traced, sampled and fitted at ε = its diagonal /
+    ``div``: its rings, those drawn alone, what the fit gives, and the distance to the truth."""
+    from skimage import data, filters, morphology
+
+    image = getattr(data, name)()
+    dark = image < filters.threshold_otsu(image)
+    mask = morphology.remove_small_objects(dark if name == "camera" else ~dark,
+                                           max_size=SPECK_PIXELS)
+    rings, eps = traced_mask(mask), float(np.hypot(*mask.shape)) / div
+    length = sum(shapely.LinearRing(r).length for r in rings)
+    t0 = time.perf_counter()
+    res = wavepoly.fit(sample(rings, int(3 * length / eps), noise * eps, 7), eps)
+    seconds = time.perf_counter() - t0
+    closed = np.array([c.closed for c in res.contours], dtype=bool)
+    draws = drawn_rings(rings, res.contours, eps)
+    return [name, f"{eps:.3g} px", f"{noise:g} ε", draws.shape[1],
+            drawn_alone(draws, closed), f"{closed.sum()}/{(~closed).sum()}",
+            len(res.outliers), len(truth.independent_problems(res)),
+            f"{shape_distance(rings, res.contours) / eps:.2f} ε", seconds]
+
+
+def drawn_alone(draws: np.ndarray, closed: np.ndarray) -> int:
+    """How many rings are drawn by exactly one closed contour that draws no other ring
+    (``draws``: `benchmarks.silhouettes.drawn_rings`; ``closed``: each contour's)."""
+    alone = draws & closed[:, None] & (draws.sum(axis=1, keepdims=True) == 1)
+    return int((alone.sum(axis=0) == 1).sum())

@@ -70,3 +70,18 @@ def test_the_shape_distance_sees_an_edge_cut_across_between_spikes():
     # the hull of the star: its vertices all lie on the star, its edges cut across the gaps
     hull = np.asarray(shapely.MultiPoint(outline).convex_hull.exterior.coords)[:-1]
     assert shape_distance([outline], [_contour(hull)]) > 0.5
+
+
+def test_a_ring_is_drawn_alone_by_one_closed_contour_of_its_own():
+    from benchmarks.silhouettes import drawn_rings
+    from benchmarks.unseen import drawn_alone
+
+    rings = [_square(0), _square(20)]
+    both = np.vstack([_square(0)[:3], _square(20)[1:]])  # one contour round the two
+    cases = [([_contour(_square(0)), _contour(_square(20))], 2),
+             ([_contour(_square(0)), _contour(_square(20), closed=False)], 1),
+             ([_contour(both)], 0),
+             ([_contour(_square(0)), _contour(_square(0) + 0.1)], 0)]  # drawn twice
+    for contours, alone in cases:
+        draws = drawn_rings(rings, contours, eps=1.0)
+        assert drawn_alone(draws, np.array([c.closed for c in contours])) == alone
