@@ -327,7 +327,7 @@ def blob_sweep() -> str:
             clean = (not problems and len(res.outliers) == 0
                      and all(c.closed for c in res.contours))
             by_rings += clean and _one_per_ring(rings, res.contours, eps)
-            by_shape += clean and shape_distance(rings, res.contours) <= BLOB_HAUSDORFF * eps
+            by_shape += clean and shape_distance(rings, res.contours, eps) <= BLOB_HAUSDORFF * eps
         rows.append([f"{size:g}", f"{noise:g} ε", f"{by_rings}/{BLOB_SEEDS}",
                      f"{by_shape}/{BLOB_SEEDS}", invalid, time.perf_counter() - t0])
     return ("### Blob sweep\n\nRandom blobs in a 256-pixel image, as scikit-image's "
@@ -339,7 +339,8 @@ def blob_sweep() -> str:
             f"each ring at least {MIN_RING_EXTENT:g} ε across drawn by one contour, a contour "
             f"drawing a ring where a quarter of its length runs within {DRAWS_NEAR:g} ε of it), "
             f"valid, no outliers; *by shape*: closed, valid, no outliers and within "
-            f"{BLOB_HAUSDORFF:g} ε of the true outlines both ways, which forgives two blobs "
+            f"{BLOB_HAUSDORFF:g} ε of the true outlines both ways, measured along the lines, "
+            "which forgives two blobs "
             "drawn as one outline where they come within a couple of ε of each other (with "
             "noise, a corner of one 1.2-1.9 ε from the other, inside the neighbourhoods "
             "widened to follow the curves through it).\n\n"

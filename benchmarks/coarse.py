@@ -51,7 +51,8 @@ def coarse_sweep(truth) -> str:
                     ok = (not problems and len(res.outliers) == 0
                           and [c.closed for c in res.contours] == [True])
                     right += ok
-                    shaped += ok and shape_distance([outline], res.contours) <= STAR_HAUSDORFF * eps
+                    far = shape_distance([outline], res.contours, eps)
+                    shaped += ok and far <= STAR_HAUSDORFF * eps
                     total += 1
         rows.append([f"stars, every ε / {1 / spacing:g}, noise ε / {1 / noise:g}",
                      f"{right}/{total} right ({shaped} by shape), {invalid} invalid"]

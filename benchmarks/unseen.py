@@ -97,7 +97,7 @@ def _row(name: str, cases: list[list[np.ndarray]], eps: float, noise: float, tru
         clean = (not problems and len(res.outliers) == 0
                  and all(c.closed for c in res.contours))
         right += clean and right_rings(rings, res.contours, eps)
-        shaped += clean and shape_distance(rings, res.contours) <= SHAPE_HAUSDORFF * eps
+        shaped += clean and shape_distance(rings, res.contours, eps) <= SHAPE_HAUSDORFF * eps
     return [name, f"{eps:.3g} px", f"{noise:g} ε", f"{right}/{len(cases)}",
             f"{shaped}/{len(cases)}", invalid, time.perf_counter() - t0]
 
@@ -121,7 +121,7 @@ def _photo_row(name: str, div: float, noise: float, truth) -> list[object]:
     return [name, f"{eps:.3g} px", f"{noise:g} ε", draws.shape[1],
             drawn_alone(draws, closed), f"{closed.sum()}/{(~closed).sum()}",
             len(res.outliers), len(truth.independent_problems(res)),
-            f"{shape_distance(rings, res.contours) / eps:.2f} ε", seconds]
+            f"{shape_distance(rings, res.contours, eps) / eps:.2f} ε", seconds]
 
 
 def drawn_alone(draws: np.ndarray, closed: np.ndarray) -> int:

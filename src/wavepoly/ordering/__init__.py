@@ -405,4 +405,3 @@ def _widening_note(nodes: Nodes, radius: float) -> str:
     return (f"noisy scan (the points spread {nodes.noise:.3g} about the curves over a "
             f"neighbourhood{bends}): neighbourhoods widened from {radius:.4g} to "
             f"{nodes.reach:.4g} to follow the curves")
-
