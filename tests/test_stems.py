@@ -483,3 +483,18 @@ def test_a_walk_whose_passes_cross_in_the_noise_is_untangled(seed, noise):
     assert independent_problems(result) == []
     assert len(result.outliers) == 0
     assert distance_to_output(pts, result).max() <= eps * (1 + 1e-9)
+
+
+@pytest.mark.parametrize("width, seed", [(0.5, 0), (0.5, 2), (0.7, 1)])
+def test_a_thin_hole_whose_chain_zigzags_is_closed(width, seed):
+    """A hole 16 tolerances long and 1-1.4 wide inside a ring, sampled every ε / 3 with
+    noise ε / 4: the march follows its two walls as one chain that zigzags between them, and
+    per length of that chain the hole held too few points to be a thin ring; per length of
+    its averaged path it holds two walls' worth, and is closed."""
+    t = np.linspace(0, 2 * np.pi, 400, endpoint=False)
+    ring = 20 * np.column_stack([np.cos(t), np.sin(t)])
+    hole = np.column_stack([8 * np.cos(t), width * np.sin(t)])
+    pts = sample_rings([ring, hole], spacing=1 / 3, noise=0.25, seed=seed)
+    result = wavepoly.fit(pts, 1.0)
+    assert [c.closed for c in result.contours] == [True, True]
+    assert len(result.outliers) == 0 and independent_problems(result) == []
