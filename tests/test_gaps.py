@@ -36,6 +36,26 @@ def test_a_gap_without_points_stays_open():
     assert [c.closed for c in close_gaps([piece], pts, RADIUS)] == [False]
 
 
+def test_a_small_curl_whose_gap_its_points_fill_stays_open():
+    """A 270-degree arc 3 radii across: the gap between its ends lies within a radius of its
+    points (they curl round it), but the arc is only 3.3 x as long as the gap: a stroke."""
+    t = np.linspace(0.0, 1.5 * np.pi, 61)
+    pts = 1.5 * RADIUS * np.column_stack([np.cos(t), np.sin(t)])
+    piece = OrderedContour(pts[::6], False, np.arange(len(pts)))  # end to end
+    assert [c.closed for c in close_gaps([piece], pts, RADIUS)] == [False]
+
+
+def test_a_small_ring_left_open_at_a_corner_closes():
+    """A triangle 4.5 radii across whose chain stops 2.7 radii short at a corner, over its own
+    points: 4.4 x as long as the gap, and closed."""
+    corners = 4.5 * RADIUS * np.array([[0, 0], [1, 0], [0.5, -1], [0, 0]])
+    pts = np.vstack([np.linspace(a, b, 40, endpoint=False) for a, b in zip(corners, corners[1:])])
+    piece = OrderedContour(pts[14:-4:3], False, np.arange(len(pts)))
+    out = close_gaps([piece], pts, RADIUS)
+    assert [c.closed for c in out] == [True]
+    assert shapely.Polygon(out[0].points).is_valid
+
+
 def test_a_gap_closing_across_another_contour_stays_open():
     pts = _circle()
     piece = OrderedContour(pts[3:-9:6], False, np.arange(600))

@@ -27,8 +27,10 @@ from .untangle import untangle
 #: silhouette's limb whose walls merged; a gap is closed only where points fill it)...
 GAP_REACH = 18.0
 #: ... when it is at least this many times as long as the gap: the two ends of a short curved
-#: stroke lie near each other too.
-GAP_LENGTH = 10.0
+#: stroke lie near each other too (a 270-degree arc is 3.3 x its gap, and its gap is filled
+#: only where the arc is under 2 radii across). A small shape's outline, 4-5 tolerances
+#: across, that the march left open at a corner is 4.4 x its gap: at 10 it stayed open.
+GAP_LENGTH = 4.0
 #: The gap is filled when a point lies within this many radii of every sample along it (the
 #: gap may cut a corner of the outline it runs across: 1.03 radii at scikit-image's horse's
 #: tail, where the march stopped 12 radii short); a stroke's ends facing across an empty gap
