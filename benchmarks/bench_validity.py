@@ -309,7 +309,7 @@ def blob_sweep() -> str:
     counted by rings as the silhouettes are, and by geometry (closed, valid, no outliers,
     within `BLOB_HAUSDORFF` ε of the truth), which forgives two blobs within a couple of ε of
     each other coming out as one outline."""
-    from .silhouettes import blobs, sample, shape_distance
+    from .silhouettes import blobs, judged, sample
 
     truth = _truth()
     eps = BLOB_PIXELS * np.sqrt(2) / DIAGONAL_PER_TOLERANCE
@@ -322,12 +322,8 @@ def blob_sweep() -> str:
             length = sum(shapely.LinearRing(r).length for r in rings)
             pts = sample(rings, int(3 * length / eps), noise * eps, seed)
             res = wavepoly.fit(pts, eps)
-            problems = truth.independent_problems(res)
-            invalid += bool(problems)
-            clean = (not problems and len(res.outliers) == 0
-                     and all(c.closed for c in res.contours))
-            by_rings += clean and _one_per_ring(rings, res.contours, eps)
-            by_shape += clean and shape_distance(rings, res.contours, eps) <= BLOB_HAUSDORFF * eps
+            bad, ringed, shaped = judged(rings, res, eps, truth, _one_per_ring, BLOB_HAUSDORFF)
+            invalid, by_rings, by_shape = invalid + bad, by_rings + ringed, by_shape + shaped
         rows.append([f"{size:g}", f"{noise:g} ε", f"{by_rings}/{BLOB_SEEDS}",
                      f"{by_shape}/{BLOB_SEEDS}", invalid, time.perf_counter() - t0])
     return ("### Blob sweep\n\nRandom blobs in a 256-pixel image, as scikit-image's "

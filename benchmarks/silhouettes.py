@@ -181,3 +181,15 @@ def drawn_rings(rings: list[np.ndarray], contours, eps: float) -> np.ndarray:
                 else shapely.linestrings(c.vertices))
         draws[k] = shapely.length(shapely.intersection(line, zones)) >= DRAWS_SHARE * line.length
     return draws
+
+
+def judged(rings: list[np.ndarray], result, eps: float, truth, right_rings,
+           hausdorff: float) -> tuple[bool, bool, bool]:
+    """Whether a fit of the ``rings``' sample is invalid (``truth.independent_problems``),
+    right by rings (closed, valid, no outliers and ``right_rings``) and right by shape
+    (closed, valid, no outliers and within ``hausdorff`` ε of the rings, `shape_distance`)."""
+    problems = truth.independent_problems(result)
+    clean = (not problems and len(result.outliers) == 0
+             and all(c.closed for c in result.contours))
+    return (bool(problems), bool(clean and right_rings(rings, result.contours, eps)),
+            bool(clean and shape_distance(rings, result.contours, eps) <= hausdorff * eps))

@@ -20,7 +20,7 @@ import shapely
 import wavepoly
 
 from .common import table
-from .silhouettes import drawn_rings, sample, shape_distance, traced_mask
+from .silhouettes import drawn_rings, judged, sample, shape_distance, traced_mask
 
 #: The horse's samplings: ε as a share of the image's diagonal, noise in ε, seeds of each.
 HORSE_DIVISIONS = (100, 150, 200)
@@ -92,12 +92,8 @@ def _row(name: str, cases: list[list[np.ndarray]], eps: float, noise: float, tru
     for seed, rings in enumerate(cases):
         length = sum(shapely.LinearRing(r).length for r in rings)
         res = wavepoly.fit(sample(rings, int(3 * length / eps), noise * eps, 1000 + seed), eps)
-        problems = truth.independent_problems(res)
-        invalid += bool(problems)
-        clean = (not problems and len(res.outliers) == 0
-                 and all(c.closed for c in res.contours))
-        right += clean and right_rings(rings, res.contours, eps)
-        shaped += clean and shape_distance(rings, res.contours, eps) <= SHAPE_HAUSDORFF * eps
+        bad, by_rings, by_shape = judged(rings, res, eps, truth, right_rings, SHAPE_HAUSDORFF)
+        invalid, right, shaped = invalid + bad, right + by_rings, shaped + by_shape
     return [name, f"{eps:.3g} px", f"{noise:g} ε", f"{right}/{len(cases)}",
             f"{shaped}/{len(cases)}", invalid, time.perf_counter() - t0]
 
