@@ -371,6 +371,26 @@ def test_a_sliver_of_a_hole_two_tolerances_long_is_a_contour():
     assert len(result.outliers) == 0
 
 
+def test_a_sliver_sampled_unevenly_is_a_contour():
+    """The hole left between three touching disks is a thin curved triangle; sampled at
+    random, its long side held no point between its ends (these 15 points, in tolerances, are
+    the stress sweep's union of disks, seed 3). The points' mean leaned to the denser sides,
+    the long side spanned 136 degrees from it, and the 15 points were outliers on a clean
+    scan."""
+    eps = 1.0
+    t = np.linspace(0, 2 * np.pi, 1500, endpoint=False)
+    ring = 80 * np.column_stack([np.cos(t), np.sin(t)])
+    sliver = np.array([[1.195, 0.354], [0.087, 0.951], [0.055, 0.975], [1.156, 0.419],
+                       [0.416, 1.512], [0.119, 1.336], [0.907, 0.878], [1.283, 0.204],
+                       [0.317, 0.779], [0.0, 1.017], [1.375, 0.049], [1.322, 0.138],
+                       [0.596, 1.48], [0.791, 1.099], [1.404, 0.0]])
+    pts = np.vstack([ring, sliver])
+    result = wavepoly.fit(pts, eps)
+    _valid(pts, result)
+    assert sorted(c.closed for c in result.contours) == [True, True]
+    assert len(result.outliers) == 0
+
+
 def test_vase_silhouette_keeps_its_hole(shared_data):
     pts = wavepoly.read_points(shared_data / "curves2d" / "noisy_sets" / "vase.txt")
     result = wavepoly.fit(pts, 0.00102)
