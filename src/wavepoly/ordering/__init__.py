@@ -36,6 +36,9 @@ Python loop runs over points:
    notch the march turned back from: the turn's vertex moves out to it (`tips`). Open pieces
    that form one cycle with stems hanging off it (a slit or a thin limb whose walls the march
    followed as one chain) become a closed outline that walks each stem out and back (`stems`).
+   Three pieces between two junctions, one of them two walls merged (a hole whose corner
+   nears its outline, two shapes a thin gap apart), become the two rings that share that
+   wall, drawn apart by its half-width (`shared_walls`).
    A ring capped across a narrow root, facing a bare straight stretch of another ring (a limb
    or a pocket the march closed on itself while the body's outline ran past), joins that ring
    as one outline (`mouths`).

@@ -1,0 +1,89 @@
+"""Two rings that share a thin wall (`wavepoly.ordering.shared_walls`): a hole whose corner
+comes within the radius of its outline, two shapes a thin gap apart."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import shapely
+from shapely import affinity
+
+import wavepoly
+from wavepoly.ordering.piece_graph import Edge
+from wavepoly.ordering.shared_walls import theta_rings
+from wavepoly.samples import sample_rings
+
+from .conftest import distance_to_output
+from .truth import independent_problems
+
+EPS = 1.0
+
+
+def _hole_by_the_wall(gap: float) -> list[np.ndarray]:
+    """An ellipse 84 x 120 tolerances, and a square hole 14 x 12 turned 10 degrees whose corner
+    comes within ``gap`` tolerances of the ellipse's wall."""
+    outer = affinity.scale(shapely.Point(0, 0).buffer(60.0, 64), 0.7, 1.0)
+    wall = np.array([42 * np.cos(np.radians(150)), 60 * np.sin(np.radians(150))])
+    inward = -wall / np.linalg.norm(wall)
+    square = affinity.rotate(shapely.box(-7, -6, 7, 6), 10, origin=(0, 0))
+    lo, hi = 0.0, 60.0  # how far inside the wall the hole's centre lies: bisected to the gap
+    for _ in range(60):
+        mid = (lo + hi) / 2
+        hole = affinity.translate(square, *(wall + inward * mid))
+        if outer.contains(hole) and outer.exterior.distance(hole) >= gap * EPS:
+            hi = mid
+        else:
+            lo = mid
+    hole = affinity.translate(square, *(wall + inward * hi))
+    return [np.asarray(outer.exterior.coords)[:-1], np.asarray(hole.exterior.coords)[:-1]]
+
+
+@pytest.mark.parametrize("seed", [5, 9])
+def test_a_hole_whose_corner_nears_the_wall_is_a_hole_not_an_open_piece(seed):
+    """With noise ε / 4, the march ran from the wall into the hole at its corner, 0.4 ε away,
+    round the hole and out again: three pieces between two junctions a fraction of a radius
+    apart, a figure eight, which no walk of one cycle draws. It was one open piece."""
+    pts = sample_rings(_hole_by_the_wall(0.4), spacing=EPS / 3, noise=EPS / 4, seed=seed)
+    result = wavepoly.fit(pts, EPS)
+    assert not independent_problems(result)
+    assert [c.closed for c in result.contours] == [True, True]
+    assert sorted(result.parents) == [-1, 0]
+    assert len(result.outliers) == 0
+    assert distance_to_output(pts, result).max() <= EPS * (1 + 1e-9)
+
+
+def _along(xy: np.ndarray, step: float) -> np.ndarray:
+    """Points every ``step`` along a polyline."""
+    line = shapely.LineString(xy)
+    return shapely.get_coordinates(shapely.line_interpolate_point(
+        line, np.arange(0.0, line.length, step)))
+
+
+def test_two_shapes_a_thin_gap_apart_are_two_outlines():
+    """Two squares 0.3 radii apart along a side: the march follows both sides as one chain,
+    the middle piece of a theta, which holds twice the points per length of the others."""
+    radius = 0.1
+    left = np.array([[0.0, 0.0], [-1.0, 0.0], [-1.0, 1.0], [0.0, 1.0]])
+    right = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+    gap = np.array([[0.0, 0.0], [0.0, 1.0]])
+    edges = [Edge(left, 0, 1, 0), Edge(gap, 0, 1, 1), Edge(right, 0, 1, 2)]
+    walls = [_along(gap, 0.03) + [s * 0.015, 0.0] for s in (-1, 1)]
+    pts = np.vstack([_along(left, 0.03), _along(right, 0.03), *walls])
+    rings = theta_rings([0, 1, 2], edges, pts, radius)
+    polygons = [shapely.Polygon(r) for r in rings]
+    assert all(p.is_valid for p in polygons)
+    assert 0.02 <= polygons[0].distance(polygons[1]) <= 0.05  # the walls 0.03 apart
+    assert [p.area for p in polygons] == pytest.approx([1.0, 1.0], abs=0.03)
+
+
+def test_a_stroke_drawn_theta_stays_strokes():
+    """A line drawing's theta (a circle and its diameter, one stroke each): no piece holds two
+    walls or is short beside the others, so the three stay open strokes."""
+    radius = 0.1
+    t = np.linspace(0.0, np.pi, 60)
+    top = np.column_stack([np.cos(t), np.sin(t)])
+    bottom = top * [1.0, -1.0]
+    middle = np.array([[1.0, 0.0], [-1.0, 0.0]])
+    edges = [Edge(top, 0, 1, 0), Edge(middle, 0, 1, 1), Edge(bottom, 0, 1, 2)]
+    pts = np.vstack([_along(xy, 0.03) for xy in (top, middle, bottom)])
+    assert theta_rings([0, 1, 2], edges, pts, radius) is None
