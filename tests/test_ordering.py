@@ -7,10 +7,13 @@ import pytest
 import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from scipy.spatial import cKDTree
 
 from wavepoly.errors import DataError, ParameterError
 from wavepoly.ordering import curve_spacing, order_points
 from wavepoly.ordering.contours import MEMBER_REACH
+from wavepoly.ordering.joining import Support, join_ends
+from wavepoly.ordering.neighbourhoods import Nodes
 from wavepoly.samples import glyph_outlines, sample_rings
 
 from .truth import densify, diagonal, order_agreement, svg_shape
@@ -530,3 +533,34 @@ def test_small_shapes_with_noise_are_drawn_as_their_shapes(size, seed):
                                      for c in result.contours])
     true = shapely.MultiLineString([np.vstack([r, r[:1]]) for r in rings])
     assert shapely.hausdorff_distance(true, drawn, densify=0.01) <= 1.5
+
+
+def _arc_chain(gap: float, reach: float = 1.0):
+    """Nodes half a reach apart along an arc of 280 degrees whose ends lie ``gap`` reaches
+    apart, linked into one chain, and points along it."""
+    half = np.radians(40)
+    r = gap * reach / (2 * np.sin(half))
+    t = np.arange(half, 2 * np.pi - half, reach / (2 * r))
+    xy = np.column_stack([r * np.cos(t), r * np.sin(t)])
+    tangent = np.column_stack([-np.sin(t), np.cos(t)])
+    ones = np.ones(len(xy))
+    nodes = Nodes(xy, tangent, 0 * ones, 0 * ones, reach, 0.0)
+    links = np.column_stack([np.arange(len(xy) - 1), np.arange(1, len(xy))])
+    s = np.arange(half, 2 * np.pi - half, reach / (6 * r))
+    return nodes, links, np.column_stack([r * np.cos(s), r * np.sin(s)])
+
+
+def test_a_chain_closes_across_empty_space_only_along_points():
+    """A chain whose end points at its start 6 reaches away (a stroke run out and round, a
+    hook) closed across the empty gap on a clean scan: a thresholded photograph's text drew an
+    edge across 13.8 tolerances of nothing. A join that wide now runs along points; with
+    points along the gap (a notch's other wall) it closes as before."""
+    nodes, links, pts = _arc_chain(6.0)
+    closing = sorted((0, len(nodes.xy) - 1))
+    joined = join_ends(nodes, links)  # no points to check against: closes
+    assert closing in np.sort(joined, axis=1).tolist()
+    bare = Support(cKDTree(pts), 1.0, every_wide_join=False)
+    assert len(join_ends(nodes, links, bare)) == len(links)
+    across = np.linspace(nodes.xy[-1], nodes.xy[0], 40)  # points along the gap
+    walled = Support(cKDTree(np.vstack([pts, across])), 1.0, every_wide_join=False)
+    assert closing in np.sort(join_ends(nodes, links, walled), axis=1).tolist()

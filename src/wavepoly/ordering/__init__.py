@@ -24,7 +24,8 @@ Python loop runs over points:
    either side, so corners stay sharp instead of being rounded by the neighbourhood averaging.
    Short chains alongside longer ones (noise split off a wall, a notch's tip) are absorbed
    (`marching`, `joining`). On a noisy scan a node holds at least two points (strays on a
-   floor are no chain), and a join wider than 4 reaches runs along points (no door is closed).
+   floor are no chain), and a join wider than 4 reaches runs along points (no door is closed);
+   on a clean scan, a chain closing on itself that wide runs within 2 radii of points.
 4. Every input point belongs to the contour of its nearest ordered point (``members``); points of
    contours too short to be curves, or farther than ``radius`` from their contour, are outliers
    (`contours`); on a clean sampling (scatter at most a quarter of the radius) a point within
@@ -71,7 +72,7 @@ from ..types import FloatArray, Ordering
 from ..validate import check_tolerance, validate_points
 from .contours import CORNER_GAP, CORNER_NOISE, clean_scan, contours_of
 from .islands import island_contours
-from .joining import Support
+from .joining import CLOSING_SUPPORT, Support
 from .marching import (
     chains_of,
     drop_crossing_loops,
@@ -369,7 +370,8 @@ def _read(pts: FloatArray, radius: float, given: float, seed: int, min_points: i
     keep = thin(nodes.xy, radius / 2, rng)
     nodes = Nodes(nodes.xy[keep], nodes.tangent[keep], nodes.ratio[keep], nodes.spread[keep],
                   nodes.reach, nodes.noise)
-    links = link_nodes(nodes, radius, Support(atoms.tree, radius) if noisy else None)
+    links = link_nodes(nodes, radius, Support(atoms.tree, radius, every_wide_join=True) if noisy
+                       else Support(atoms.tree, CLOSING_SUPPORT * radius, every_wide_join=False))
     chains, absorbed = drop_side_chains(nodes, chains_of(links, len(nodes.xy)))
     chains, absorbed = drop_crossing_loops(nodes, chains, absorbed)
     wide = wide_nodes(nodes, chains, radius)

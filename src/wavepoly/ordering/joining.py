@@ -45,6 +45,11 @@ LONG_CLOSE_GAP = 3.0
 #: of a sharp notch the neighbourhoods sit between the walls, and the march on the second wall
 #: stops several R short of the tip where the first wall's end is.
 CLOSING_GAP = 8.0
+#: On a clean scan such a closing join wider than `ANY_DIRECTION_GAP` R runs along points
+#: within this many radii of it: a wedge slit's walls part a couple of radii by its mouth,
+#: while a chain that ran out along one thin stroke and back along another (a thresholded
+#: photograph's text) was closed across 13.8 tolerances with no point within 4 R.
+CLOSING_SUPPORT = 2.0
 
 
 def join_ends(nodes: Nodes, links: IntArray, support: Support | None = None) -> IntArray:
@@ -53,9 +58,8 @@ def join_ends(nodes: Nodes, links: IntArray, support: Support | None = None) -> 
     Ends join within `ANY_DIRECTION_GAP` R whatever their directions, and across a gap of up
     to `FACING_GAP` R when each end faces the other. A chain's two ends join only when the
     chain is long enough to close on itself and one end points at the other. The joining
-    repeats (`JOIN_ROUNDS`), so a lone node can bridge a gap. With ``support`` (a noisy
-    scan's points), a join wider than `ANY_DIRECTION_GAP` R must run along points: a laser
-    map's gap that wide is a door.
+    repeats (`JOIN_ROUNDS`), so a lone node can bridge a gap. With ``support`` (the scan's
+    points), a join wider than `ANY_DIRECTION_GAP` R must run along points (`Support`).
     """
     reach = nodes.reach
     n = len(nodes.xy)
@@ -115,8 +119,11 @@ def _mutual_nearest_ends(nodes: Nodes, links: IntArray, free: IntArray, degree: 
         closing = same & (size[comp[free]] >= LONG_CHAIN_NODES) & (
             (ahead > FACING_COS * dist[:, col]) | (ahead_other > FACING_COS * dist[:, col]))
         ok &= (dist[:, col] <= ANY_DIRECTION_GAP * reach) | facing | closing
-        if support is not None:  # across a door, or the empty floor between strays
-            wide = np.flatnonzero(ok & (dist[:, col] > ANY_DIRECTION_GAP * reach))
+        if support is not None:  # across a door, the empty floor between strays, or space
+            wide = ok & (dist[:, col] > ANY_DIRECTION_GAP * reach)
+            if not support.every_wide_join:
+                wide &= closing & ~facing
+            wide = np.flatnonzero(wide)
             ok[wide] = support.along(nodes.xy[free[wide]], nodes.xy[free[cand[wide]]])
         first = ok & (best < 0)
         best_dist = np.where(first, dist[:, col], best_dist)
@@ -133,11 +140,17 @@ def _mutual_nearest_ends(nodes: Nodes, links: IntArray, free: IntArray, degree: 
 
 @dataclass(frozen=True)
 class Support:
-    """The points a wide join must run along on a noisy scan: points within a ``radius`` of
-    every sample along it, a radius apart."""
+    """The points a wide join must run along: points within a ``radius`` of every sample
+    along it, a radius apart. ``every_wide_join``: on a noisy scan every join wider than
+    `ANY_DIRECTION_GAP` R (a laser map's gap that wide is a door); on a clean one only a
+    chain closing on itself where its ends do not face each other (`CLOSING_GAP`): at a
+    notch's tip the join runs between the walls, while a chain that ran out along one thin
+    stroke and back along another (a thresholded photograph's text, strokes under a
+    tolerance wide) was closed across 13.8 tolerances of empty space."""
 
     tree: cKDTree
     radius: float
+    every_wide_join: bool = True
 
     def along(self, a: FloatArray, b: FloatArray) -> np.ndarray:
         """Whether points lie along each segment from ``a[i]`` to ``b[i]``."""
