@@ -535,10 +535,10 @@ def test_small_shapes_with_noise_are_drawn_as_their_shapes(size, seed):
     assert shapely.hausdorff_distance(true, drawn, densify=0.01) <= 1.5
 
 
-def _arc_chain(gap: float, reach: float = 1.0):
-    """Nodes half a reach apart along an arc of 280 degrees whose ends lie ``gap`` reaches
-    apart, linked into one chain, and points along it."""
-    half = np.radians(40)
+def _arc_chain(gap: float, reach: float = 1.0, missing: float = 80.0):
+    """Nodes half a reach apart along an arc that leaves out ``missing`` degrees of its circle,
+    its ends ``gap`` reaches apart, linked into one chain, and points along it."""
+    half = np.radians(missing / 2)
     r = gap * reach / (2 * np.sin(half))
     t = np.arange(half, 2 * np.pi - half, reach / (2 * r))
     xy = np.column_stack([r * np.cos(t), r * np.sin(t)])
@@ -564,3 +564,13 @@ def test_a_chain_closes_across_empty_space_only_along_points():
     across = np.linspace(nodes.xy[-1], nodes.xy[0], 40)  # points along the gap
     walled = Support(cKDTree(np.vstack([pts, across])), 1.0, every_wide_join=False)
     assert closing in np.sort(join_ends(nodes, links, walled), axis=1).tolist()
+
+
+def test_a_gap_in_a_smooth_outline_closes_without_points():
+    """Ends that point at each other within 25 degrees across 6 reaches with no point between
+    are a gap in the sampling of a smooth outline (a silhouette thinned to a quarter on one
+    side): the chain closes there, points or none."""
+    nodes, links, pts = _arc_chain(6.0, missing=10.0)
+    bare = Support(cKDTree(pts), 1.0, every_wide_join=False)
+    joined = np.sort(join_ends(nodes, links, bare), axis=1).tolist()
+    assert sorted((0, len(nodes.xy) - 1)) in joined

@@ -6,9 +6,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import shapely
-from shapely import affinity
 
 import wavepoly
+from benchmarks.holes import hole_by_the_wall
 from wavepoly.ordering.piece_graph import Edge
 from wavepoly.ordering.shared_walls import theta_rings
 from wavepoly.samples import sample_rings
@@ -19,31 +19,12 @@ from .truth import independent_problems
 EPS = 1.0
 
 
-def _hole_by_the_wall(gap: float) -> list[np.ndarray]:
-    """An ellipse 84 x 120 tolerances, and a square hole 14 x 12 turned 10 degrees whose corner
-    comes within ``gap`` tolerances of the ellipse's wall."""
-    outer = affinity.scale(shapely.Point(0, 0).buffer(60.0, 64), 0.7, 1.0)
-    wall = np.array([42 * np.cos(np.radians(150)), 60 * np.sin(np.radians(150))])
-    inward = -wall / np.linalg.norm(wall)
-    square = affinity.rotate(shapely.box(-7, -6, 7, 6), 10, origin=(0, 0))
-    lo, hi = 0.0, 60.0  # how far inside the wall the hole's centre lies: bisected to the gap
-    for _ in range(60):
-        mid = (lo + hi) / 2
-        hole = affinity.translate(square, *(wall + inward * mid))
-        if outer.contains(hole) and outer.exterior.distance(hole) >= gap * EPS:
-            hi = mid
-        else:
-            lo = mid
-    hole = affinity.translate(square, *(wall + inward * hi))
-    return [np.asarray(outer.exterior.coords)[:-1], np.asarray(hole.exterior.coords)[:-1]]
-
-
 @pytest.mark.parametrize("seed", [5, 9])
 def test_a_hole_whose_corner_nears_the_wall_is_a_hole_not_an_open_piece(seed):
     """With noise ε / 4, the march ran from the wall into the hole at its corner, 0.4 ε away,
     round the hole and out again: three pieces between two junctions a fraction of a radius
     apart, a figure eight, which no walk of one cycle draws. It was one open piece."""
-    pts = sample_rings(_hole_by_the_wall(0.4), spacing=EPS / 3, noise=EPS / 4, seed=seed)
+    pts = sample_rings(hole_by_the_wall(0.4), spacing=EPS / 3, noise=EPS / 4, seed=seed)
     result = wavepoly.fit(pts, EPS)
     assert not independent_problems(result)
     assert [c.closed for c in result.contours] == [True, True]

@@ -1,0 +1,79 @@
+"""A hole by its outline's wall: the validity benchmark's sweep of holes whose corner comes
+within a tolerance of the outline (a thin wall between them), where the march runs from the
+outline into the hole and back (`wavepoly.ordering.shared_walls`, `wavepoly.ordering.waists`).
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import shapely
+from shapely import affinity
+
+import wavepoly
+from wavepoly.samples import sample_rings
+
+from .common import table
+
+#: The sweep: the wall's thinnest (the gap between the hole's corner and the outline, in ε),
+#: the noise (in ε), and seeds of each (each seed turns the hole and moves it along the wall).
+HOLE_GAPS = (0.4, 0.75)
+HOLE_NOISE = (0.0, 0.125, 0.25)
+HOLE_SEEDS = 12
+
+
+def hole_by_the_wall(gap: float, angle: float = 150.0, turn: float = 10.0, eps: float = 1.0
+                     ) -> list[np.ndarray]:
+    """An ellipse 84 x 120 ε, and a square hole 14 x 12 ε turned ``turn`` degrees, moved in
+    from the wall at ``angle`` degrees until its nearest corner is ``gap`` ε from the wall."""
+    outer = affinity.scale(shapely.Point(0, 0).buffer(60.0 * eps, 64), 0.7, 1.0)
+    t = np.radians(angle)
+    wall = np.array([42 * np.cos(t), 60 * np.sin(t)]) * eps
+    inward = -wall / np.linalg.norm(wall)
+    square = affinity.rotate(shapely.box(-7 * eps, -6 * eps, 7 * eps, 6 * eps), turn,
+                             origin=(0, 0))
+    lo, hi = 0.0, 60.0 * eps  # how far inside the wall the hole's centre lies, bisected
+    for _ in range(60):
+        mid = (lo + hi) / 2
+        hole = affinity.translate(square, *(wall + inward * mid))
+        if outer.contains(hole) and outer.exterior.distance(hole) >= gap * eps:
+            hi = mid
+        else:
+            lo = mid
+    hole = affinity.translate(square, *(wall + inward * hi))
+    return [np.asarray(outer.exterior.coords)[:-1], np.asarray(hole.exterior.coords)[:-1]]
+
+
+def hole_sweep(truth) -> str:
+    """For each gap and noise, fits of `HOLE_SEEDS` samplings every ε / 3: *right* (the
+    outline and its hole, nested, valid, no outliers), *notch* (one closed outline: the hole
+    read as a notch across the thin wall), *open* (any open piece) and *invalid*
+    (``truth.independent_problems``)."""
+    rows = []
+    for gap in HOLE_GAPS:
+        for noise in HOLE_NOISE:
+            right = notch = opened = invalid = 0
+            t0 = time.perf_counter()
+            for seed in range(HOLE_SEEDS):
+                rng = np.random.default_rng(seed)
+                rings = hole_by_the_wall(gap, rng.uniform(0, 360), rng.uniform(0, 90))
+                pts = sample_rings(rings, spacing=1 / 3, noise=noise, seed=seed)
+                res = wavepoly.fit(pts, 1.0)
+                closed = [c.closed for c in res.contours]
+                bad = bool(truth.independent_problems(res))
+                invalid += bad
+                opened += not all(closed)
+                notch += closed == [True]
+                right += (closed == [True, True] and sorted(res.parents) == [-1, 0]
+                          and not bad and len(res.outliers) == 0)
+            rows.append([f"{gap:g} ε", f"{noise:g} ε", f"{right}/{HOLE_SEEDS}", notch, opened,
+                         invalid, time.perf_counter() - t0])
+    return ("### A hole by the wall\n\nAn ellipse 84 x 120 ε with a square hole 14 x 12 ε, "
+            "turned and moved along the wall at random, whose nearest corner comes *gap* ε "
+            "from the outline (`benchmarks/holes.py`), sampled every ε / 3 with Gaussian "
+            "noise. *right*: the outline and its hole, nested, valid, no outliers; *notch*: "
+            "one closed outline, the hole read as a notch across the thin wall (from the "
+            "points alone a short slit from the outline into the hole, a keyhole, reads the "
+            "same); *open*: results with an open piece.\n\n"
+            + table(["gap", "noise", "right", "notch", "open", "invalid", "seconds"], rows))
