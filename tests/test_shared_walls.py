@@ -68,3 +68,19 @@ def test_a_stroke_drawn_theta_stays_strokes():
     edges = [Edge(top, 0, 1, 0), Edge(middle, 0, 1, 1), Edge(bottom, 0, 1, 2)]
     pts = np.vstack([_along(xy, 0.03) for xy in (top, middle, bottom)])
     assert theta_rings([0, 1, 2], edges, pts, radius) is None
+
+
+def test_a_hole_whose_side_slants_along_the_wall_is_a_hole():
+    """The hole sweep's seed 3 (`benchmarks.holes`): the square's side runs along the wall at
+    a slant from 0.4 ε, so the walls merge over part of the shared piece (its denser half
+    holds 1.3 x the points per length), and two pieces cross by a junction, leaving a sliver
+    face. It was one open piece."""
+    rng = np.random.default_rng(3)
+    rings = hole_by_the_wall(0.4, rng.uniform(0, 360), rng.uniform(0, 90))
+    pts = sample_rings(rings, spacing=EPS / 3, noise=EPS / 8, seed=3)
+    result = wavepoly.fit(pts, EPS)
+    assert not independent_problems(result)
+    assert [c.closed for c in result.contours] == [True, True]
+    assert sorted(result.parents) == [-1, 0]
+    assert len(result.outliers) == 0
+    assert distance_to_output(pts, result).max() <= EPS * (1 + 1e-9)

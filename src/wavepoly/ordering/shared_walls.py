@@ -8,7 +8,7 @@ junctions, which no walk of one cycle can draw (`wavepoly.ordering.stems`), so t
 open pieces.
 
 The piece that holds the two walls, twice the points per length of the others
-(`wavepoly.ordering.slits.STEM_DENSITY`), tells which reading the points make:
+(`SHARED_DENSITY`), tells which reading the points make:
 
 - on the outline of the region the three bound, it is a thin wall between the outside and a
   hole: the body is the face the other two pieces bound, with the wall's strip added, one
@@ -32,15 +32,21 @@ from scipy.spatial import cKDTree
 
 from ..geometry import polyline_distance, polyline_length
 from ..types import FloatArray
-from .faces import COVER_REACH, MERGE_VERTICES
+from .faces import COVER_REACH, MERGE_VERTICES, SLIVER_AREA
 from .passes import half_widths
 from .piece_graph import Edge
-from .slits import STEM_DENSITY
 
 #: A piece's midpoints lie on a face's outline within this share of the radius.
 ON_FACE = 1e-6
-#: Pieces are measured this many radii or more from the junctions, where the walls part.
+#: Pieces are measured this many radii or more from the junctions, where the walls part...
 JUNCTION_REACH = 1.0
+#: ... in stretches this many radii long (some 6 points on one wall sampled at 3 per radius)...
+DENSITY_BIN = 2.0
+#: ... and the shared piece holds at least this many times the points per length of each other
+#: piece over its denser half: two walls merged hold twice as many, but where a hole's side
+#: slants along the outline's wall they merge over part of the piece (its denser half held
+#: 1.30 x; a stem of one cycle must hold 1.5 x, `wavepoly.ordering.slits.STEM_DENSITY`).
+SHARED_DENSITY = 1.25
 #: A piece at most this share of the length of each other one is the shared one: where a
 #: hole's corner comes within the radius of its outline, the merged stretch is a few radii
 #: (4, against 45 of the hole's other sides; stress sweep, a square hole by an ellipse's wall).
@@ -120,13 +126,13 @@ def _figure_eight(loops: list[FloatArray], members: FloatArray, radius: float
 
 
 def _two_walls(lines: list[FloatArray], members: FloatArray, radius: float) -> int | None:
-    """The piece that holds `STEM_DENSITY` x the points per length of each other one; else
+    """The piece that holds `SHARED_DENSITY` x the points per length of each other one; else
     one at most `SHORT_SHARE` as long as each other one (a hole's corner that comes within
     the radius of its outline's wall merges with it for a radius or two, where the hole's
     points are too few to double the wall's); else None."""
     density = np.array([_density(xy, members, radius) for xy in lines])
     best = int(np.argmax(density))
-    if density[best] >= STEM_DENSITY * np.delete(density, best).max():
+    if density[best] >= SHARED_DENSITY * np.delete(density, best).max():
         return best
     length = np.array([polyline_length(xy, False) for xy in lines])
     short = int(np.argmin(length))
@@ -135,7 +141,9 @@ def _two_walls(lines: list[FloatArray], members: FloatArray, radius: float) -> i
 
 def _density(xy: FloatArray, members: FloatArray, radius: float) -> float:
     """Members per length within a radius across a piece's stretch `JUNCTION_REACH` radii or
-    more from its ends (the whole piece where that stretch is shorter than a radius)."""
+    more from its ends (the whole piece where that stretch is shorter than a radius), over
+    the denser half of its stretches `DENSITY_BIN` radii long: where a hole's side runs
+    along the outline's wall at a slant, the two walls merge over part of the piece only."""
     ends = shapely.points(xy[[0, -1]])
     away = np.min(shapely.distance(shapely.points(xy)[:, None], ends[None, :]), axis=1)
     inner = xy[away > JUNCTION_REACH * radius]
@@ -144,15 +152,19 @@ def _density(xy: FloatArray, members: FloatArray, radius: float) -> float:
     at = shapely.line_locate_point(line, shapely.points(members))
     across = shapely.distance(line, shapely.points(members))
     inside = (at > 0.0) & (at < line.length) & (across <= radius)
-    return int(inside.sum()) / max(line.length, 1e-300)
+    bins = max(int(line.length // (DENSITY_BIN * radius)), 1)
+    counts = np.sort(np.bincount(np.minimum((at[inside] / line.length * bins).astype(int),
+                                            bins - 1), minlength=bins))[::-1]
+    denser = counts[:max(bins // 2, 1)]
+    return float(denser.sum()) / (line.length * len(denser) / bins)
 
 
 def _rings(lines: list[FloatArray], shared: int, members: FloatArray, radius: float
            ) -> list[FloatArray] | None:
     """The two rings the faces make with the shared piece's strip added or taken out."""
-    faces = list(shapely.get_parts(shapely.polygonize(shapely.get_parts(shapely.node(
-        shapely.MultiLineString(lines))))))
-    if len(faces) != 2:
+    faces = [f for f in shapely.get_parts(shapely.polygonize(shapely.get_parts(shapely.node(
+        shapely.MultiLineString(lines))))) if f.area > SLIVER_AREA * radius**2]
+    if len(faces) != 2:  # slivers left out: where two pieces cross by a junction
         return None
     wall = shapely.LineString(lines[shared])
     strip = wall.buffer(_half_width(lines[shared], members, radius), cap_style="square",
