@@ -84,3 +84,16 @@ def test_a_hole_whose_side_slants_along_the_wall_is_a_hole():
     rings = hole_by_the_wall(0.4, rng.uniform(0, 360), rng.uniform(0, 90))
     pts = sample_rings(rings, spacing=EPS / 3, noise=EPS / 8, seed=3)
     _outline_and_hole(pts)
+
+
+def test_a_bare_chord_where_two_shapes_overlap_is_no_shared_wall():
+    """Two squares that overlap by a hair: their union's outline runs round both, and the
+    march's chord across the stretch where they meet has no wall along it (scikit-image's
+    random shapes, seed 14, came out as two outlines where the truth is one)."""
+    radius = 0.1
+    left = np.array([[0.0, 0.0], [-1.0, 0.0], [-1.0, 1.0], [0.0, 1.0]])
+    right = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+    chord = np.array([[0.0, 0.0], [0.0, 1.0]])
+    edges = [Edge(left, 0, 1, 0), Edge(chord, 0, 1, 1), Edge(right, 0, 1, 2)]
+    pts = np.vstack([_along(left, 0.03), _along(right, 0.03)])
+    assert theta_rings([0, 1, 2], edges, pts, radius) is None

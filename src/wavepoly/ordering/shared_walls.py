@@ -49,8 +49,14 @@ DENSITY_BIN = 2.0
 SHARED_DENSITY = 1.25
 #: A piece at most this share of the length of each other one is the shared one: where a
 #: hole's corner comes within the radius of its outline, the merged stretch is a few radii
-#: (4, against 45 of the hole's other sides; stress sweep, a square hole by an ellipse's wall).
-SHORT_SHARE = 0.25
+#: (3.9, against 45 of the hole's other sides: 0.09; stress sweep, a square hole by an
+#: ellipse's wall). Where two shapes overlap by less than the radius, the march's chord
+#: across the stretch where they meet is longer (0.23: scikit-image's random shapes, seed
+#: 14, one outline that this read as two)...
+SHORT_SHARE = 0.15
+#: ... and holds at least this share of the points per length of each other one: a wall runs
+#: along it, not a bare chord (the hole's corner: 0.67 over the denser half).
+SHORT_DENSITY = 0.5
 
 
 def theta_rings(comp: list[int], edges: list[Edge], members: FloatArray, radius: float
@@ -127,16 +133,19 @@ def _figure_eight(loops: list[FloatArray], members: FloatArray, radius: float
 
 def _two_walls(lines: list[FloatArray], members: FloatArray, radius: float) -> int | None:
     """The piece that holds `SHARED_DENSITY` x the points per length of each other one; else
-    one at most `SHORT_SHARE` as long as each other one (a hole's corner that comes within
-    the radius of its outline's wall merges with it for a radius or two, where the hole's
-    points are too few to double the wall's); else None."""
+    one at most `SHORT_SHARE` as long as each other one, with a wall along it
+    (`SHORT_DENSITY`: a hole's corner that comes within the radius of its outline's wall
+    merges with it for a radius or two, where the hole's points are too few to double the
+    wall's); else None."""
     density = np.array([_density(xy, members, radius) for xy in lines])
     best = int(np.argmax(density))
     if density[best] >= SHARED_DENSITY * np.delete(density, best).max():
         return best
     length = np.array([polyline_length(xy, False) for xy in lines])
     short = int(np.argmin(length))
-    return short if length[short] <= SHORT_SHARE * np.delete(length, short).min() else None
+    if length[short] > SHORT_SHARE * np.delete(length, short).min():
+        return None
+    return short if density[short] >= SHORT_DENSITY * np.delete(density, short).max() else None
 
 
 def _density(xy: FloatArray, members: FloatArray, radius: float) -> float:
