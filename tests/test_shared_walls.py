@@ -10,7 +10,7 @@ import shapely
 import wavepoly
 from benchmarks.holes import hole_by_the_wall
 from wavepoly.ordering.piece_graph import Edge
-from wavepoly.ordering.shared_walls import theta_rings
+from wavepoly.ordering.shared_walls import _side_by_side, theta_rings
 from wavepoly.samples import sample_rings
 
 from .conftest import distance_to_output
@@ -97,3 +97,16 @@ def test_a_bare_chord_where_two_shapes_overlap_is_no_shared_wall():
     edges = [Edge(left, 0, 1, 0), Edge(chord, 0, 1, 1), Edge(right, 0, 1, 2)]
     pts = np.vstack([_along(left, 0.03), _along(right, 0.03)])
     assert theta_rings([0, 1, 2], edges, pts, radius) is None
+
+
+def test_an_outline_drawn_twice_is_no_outline_and_hole():
+    """Two rings a third of a radius apart all the way round (a wavy wall of the turbine
+    blade's root, followed as two chains side by side, gave such an outline and "hole": a
+    hollow layer where the section is solid) are one outline; a hole that runs along its
+    outline's wall for one side is a hole."""
+    radius = 0.1
+    square = np.array([[0.0, 0.0], [4.0, 0.0], [4.0, 2.0], [0.0, 2.0]])
+    inner = np.array([[0.03, 0.03], [3.97, 0.03], [3.97, 1.97], [0.03, 1.97]])
+    hole = np.array([[0.05, 0.5], [1.0, 0.5], [1.0, 1.5], [0.05, 1.5]])
+    assert _side_by_side([square, inner], radius)
+    assert not _side_by_side([square, hole], radius)

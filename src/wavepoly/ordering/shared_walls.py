@@ -36,6 +36,11 @@ from .faces import COVER_REACH, MERGE_VERTICES, SLIVER_AREA
 from .passes import half_widths
 from .piece_graph import Edge
 
+#: The two rings share at most this share of either one's length (within a radius of the
+#: other): a hole's side along its outline's wall is a quarter of the hole or less, while a
+#: wavy wall of the turbine blade's root, which the march followed as two chains side by side,
+#: gave an outline and a "hole" a third of a radius inside it all the way round.
+SIDE_BY_SIDE = 0.5
 #: A piece's midpoints lie on a face's outline within this share of the radius.
 ON_FACE = 1e-6
 #: Pieces are measured this many radii or more from the junctions, where the walls part...
@@ -112,7 +117,7 @@ def theta_rings(comp: list[int], edges: list[Edge], members: FloatArray, radius:
         rings = _rings(lines, shared, members, radius)
     except shapely.errors.GEOSException:
         return None
-    if rings is None or not _covers(rings, members, radius):
+    if rings is None or not _covers(rings, members, radius) or _side_by_side(rings, radius):
         return None
     return rings
 
@@ -212,6 +217,14 @@ def _half_width(wall: FloatArray, members: FloatArray, radius: float) -> float:
 def _one_polygon(region: shapely.Geometry) -> shapely.Polygon | None:
     """The region where it is one valid polygon, else None."""
     return region if region.geom_type == "Polygon" and region.is_valid else None
+
+
+def _side_by_side(rings: list[FloatArray], radius: float) -> bool:
+    """Whether more than `SIDE_BY_SIDE` of either ring runs within a radius of the other: one
+    outline drawn twice, not two rings that share a stretch of wall."""
+    one, two = (shapely.LinearRing(r) for r in rings)
+    return any(shapely.intersection(a, b.buffer(radius)).length > SIDE_BY_SIDE * a.length
+               for a, b in ((one, two), (two, one)))
 
 
 def _covers(rings: list[FloatArray], members: FloatArray, radius: float) -> bool:
