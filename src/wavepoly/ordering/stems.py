@@ -25,13 +25,13 @@ import shapely
 from scipy.spatial import cKDTree
 
 from ..geometry import polyline_distance, polyline_length
-from ..types import FloatArray, IntArray, OrderedContour
+from ..types import FloatArray, OrderedContour
 from .faces import CHORD_TIP, COVER_REACH, outline_of_faces
 from .passes import out_and_back, smoothed
 from .piece_graph import Edge, bridges, components, degrees, outer_edges, piece_graph
 from .shared_walls import theta_rings
 from .slits import STEM_DENSITY, stems_are_slits
-from .untangle import crossing_edges, untangle
+from .untangle import crossing_edges, share_members, untangle
 
 #: Where a stem leaves the cycle at a shallow angle, its first pass may cross the edge the walk
 #: arrived by, a few times on each side: up to this many crossings are untangled (2-opt); a walk
@@ -132,16 +132,9 @@ def _closed_components(contours: list[OrderedContour], pick: list[int], points: 
                             points[members], radius)
         if rings is not None:
             used.update(taken)
-            closed += _with_members(rings, members, points)
+            closed += share_members(rings, members, points, closed=True)
     return closed, used
 
-
-def _with_members(rings: list[FloatArray], members: IntArray, points: FloatArray
-                  ) -> list[OrderedContour]:
-    """Closed contours of the rings, each holding the members nearest to it."""
-    to_ring = np.array([polyline_distance(points[members], r, True) for r in rings])
-    nearest = np.argmin(to_ring, axis=0)
-    return [OrderedContour(r, True, members[nearest == k]) for k, r in enumerate(rings)]
 
 
 def _outline(comp: list[int], edges: list[Edge], members: FloatArray, radius: float,
