@@ -1,6 +1,8 @@
 """A hole by its outline's wall: the validity benchmark's sweep of holes whose corner comes
 within a tolerance of the outline (a thin wall between them), where the march runs from the
-outline into the hole and back (`wavepoly.ordering.shared_walls`, `wavepoly.ordering.waists`).
+outline into the hole and back (`wavepoly.ordering.shared_walls`, `wavepoly.ordering.waists`);
+and its converse, a keyhole: a slit from the outline into a round hole, one outline, which the
+march runs through the same way.
 """
 
 from __future__ import annotations
@@ -21,6 +23,11 @@ from .common import table
 HOLE_GAPS = (0.4, 0.75)
 HOLE_NOISE = (0.0, 0.125, 0.25)
 HOLE_SEEDS = 12
+#: The keyhole sweep: slit widths (in ε), the noise (in ε) and seeds of each (each seed turns
+#: the keyhole).
+SLIT_WIDTHS = (1.0, 1.5, 2.0, 2.5)
+SLIT_NOISE = (0.0, 0.125, 0.25)
+SLIT_SEEDS = 8
 
 
 def hole_by_the_wall(gap: float, angle: float = 150.0, turn: float = 10.0, eps: float = 1.0
@@ -43,6 +50,46 @@ def hole_by_the_wall(gap: float, angle: float = 150.0, turn: float = 10.0, eps: 
             lo = mid
     hole = affinity.translate(square, *(wall + inward * hi))
     return [np.asarray(outer.exterior.coords)[:-1], np.asarray(hole.exterior.coords)[:-1]]
+
+
+def keyhole(width: float, turn: float = 0.0, eps: float = 1.0) -> list[np.ndarray]:
+    """A disk 60 ε across with a round hole 16 ε across 5 ε inside its wall, and a slit
+    ``width`` ε wide from the wall into the hole, turned ``turn`` degrees: one ring."""
+    disk = shapely.Point(0, 0).buffer(30.0 * eps, 64)
+    centre = 17.0 * eps
+    hole = shapely.Point(centre, 0).buffer(8.0 * eps, 32)
+    slit = shapely.box(centre, -width * eps / 2, 31.0 * eps, width * eps / 2)
+    shape = affinity.rotate(disk.difference(hole.union(slit)), turn, origin=(0, 0))
+    return [np.asarray(shape.exterior.coords)[:-1]]
+
+
+def keyhole_sweep(truth) -> str:
+    """For each slit width and noise, fits of `SLIT_SEEDS` keyholes sampled every ε / 3:
+    *one outline* (right: one closed contour, valid, no outliers), *split* (the outline and
+    the hole apart, the slit closed) and *invalid* (``truth.independent_problems``)."""
+    rows = []
+    for width in SLIT_WIDTHS:
+        for noise in SLIT_NOISE:
+            right = split = invalid = 0
+            for seed in range(SLIT_SEEDS):
+                pts = sample_rings(keyhole(width, 37.0 * seed), spacing=1 / 3, noise=noise,
+                                   seed=seed)
+                res = wavepoly.fit(pts, 1.0)
+                bad = bool(truth.independent_problems(res))
+                invalid += bad
+                split += len(res.contours) > 1
+                right += ([c.closed for c in res.contours] == [True] and not bad
+                          and len(res.outliers) == 0)
+            rows.append([f"{width:g} ε", f"{noise:g} ε", f"{right}/{SLIT_SEEDS}", split,
+                         invalid])
+    return ("### A keyhole\n\nThe converse of a hole by the wall: a disk 60 ε across with a "
+            "round hole 16 ε across 5 ε inside its wall and a slit *width* ε wide from the "
+            "wall into the hole (`benchmarks/holes.py`), turned at random, sampled every ε / 3 "
+            "with Gaussian noise: one outline. *right*: one closed outline, valid, no "
+            "outliers; *split*: more than one contour (the outline and the hole, the slit "
+            "closed). Where the slit is about as narrow as ε and its walls are noisy, the "
+            "points read as a hole by a thin wall as well.\n\n"
+            + table(["slit", "noise", "right", "split", "invalid"], rows))
 
 
 def hole_sweep(truth) -> str:

@@ -15,10 +15,13 @@ that truly touch at a point (blobs a bitmap joins at a pixel's corner) read the 
 shapes a fraction of a tolerance apart, and are split too.
 
 A hole that nearly touches its outline reads the same way: the march runs from the outline
-into the hole, round it and back out. Split, the hole lies inside the outline; it is kept
-apart only where both close smoothly, since where a slit runs from the outline into the hole
-(a keyhole, one outline) each would close turning back along the slit's walls. Outlines
-that the stems pass closes from open pieces (`stems`) are searched for such holes too.
+into the hole, round it and back out (often at a corner of the hole, whose sides part from
+the wall there). Split, the hole lies inside the outline; it is kept apart where the outline
+closes smoothly and the hole does not close on a spike, since where a slit runs from the
+outline into the hole (a keyhole, one outline) the one keeps the slit's walls as a notch or
+the other as a spike. A slit narrower than about ε (its walls' noise) reads like a hole's
+wall as thin, and is split too. Outlines that the stems pass closes from open pieces
+(`stems`) are searched for such holes too.
 """
 
 from __future__ import annotations
@@ -58,9 +61,22 @@ ARM_NODES = 2
 #: Each shape is at least this many radii wide (twice its area over its perimeter, a disk's
 #: radius): a disk 4 radii across, the smallest ring counted as a shape of its own.
 WAIST_WIDTH = 2.0
-#: A hole split from its outline closes, and the outline closes, turning by at most this
-#: (degrees) across the edges that close them: two smooth outlines, not a slit's walls.
+#: An outline split from a hole inside it closes turning by at most this (degrees) across the
+#: edge that closes it: the outline runs smoothly past the thin wall (1-30 in the hole sweep),
+#: where a slit's walls left on it would turn back into the slit.
 HOLE_CLOSING_TURN = 60.0
+#: The hole may close at a corner of its own (a square hole's), but not on a spike where it
+#: keeps a slit's walls: no node within this many radii of the edge that closes it ...
+SPIKE_LENGTH = 3.0
+#: ... turns by more than this (degrees) between its arms (a square hole's corner 54-93 in
+#: the hole sweep; the tip of a slit 1-1.5 ε wide that a hole kept, 124-177) ...
+SPIKE_TURN = 120.0
+#: ... each this many radii long (a slit's square tip turns 135 degrees between arms 2.5
+#: radii long where it is 1.5 radii wide, twice 90 within 1.5 of each other) ...
+SPIKE_ARM = 2.5
+#: ... or this share of the hole's perimeter where that is shorter (a circle turns 72 degrees
+#: between arms a tenth of its perimeter long: a small round hole is no spike).
+SPIKE_ARMS_ROUND = 10.0
 
 
 def split_at_waists(xy: FloatArray, radius: float, holes_only: bool = False
@@ -93,7 +109,7 @@ def _waist_split(xy: FloatArray, radius: float, holes_only: bool = False
     old, new_i, new_j = _pass_turns(xy, i, j)
     gain = old - new_i - new_j
     keep = gain > TURN_GAIN
-    i, j, gain, new = i[keep], j[keep], gain[keep], np.maximum(new_i, new_j)[keep]
+    i, j, gain, new_i, new_j = i[keep], j[keep], gain[keep], new_i[keep], new_j[keep]
     if not len(i):
         return None
     smooth = _smooth_arms(turning(xy, True, step=1), i, j)
@@ -101,7 +117,8 @@ def _waist_split(xy: FloatArray, radius: float, holes_only: bool = False
         if not smooth[k]:
             continue
         loops = [xy[i[k] + 1:j[k] + 1], np.concatenate([xy[j[k] + 1:], xy[:i[k] + 1]])]
-        if _apart(loops, radius, float(new[k]), holes_only):
+        # the edge from j closes the first loop, the edge from i the second
+        if _apart(loops, radius, (float(new_j[k]), float(new_i[k])), holes_only):
             return loops
     return None
 
@@ -149,21 +166,43 @@ def _smooth_arms(turn: FloatArray, i: IntArray, j: IntArray) -> np.ndarray:
     return np.median(turn[arms], axis=1) <= ARM_TURN
 
 
-def _apart(loops: list[FloatArray], radius: float, closing_turn: float,
+def _apart(loops: list[FloatArray], radius: float, closing_turns: tuple[float, float],
            holes_only: bool = False) -> bool:
     """Whether both loops are simple, lie side by side or one wholly inside the other without
     meeting, and are both at least `WAIST_WIDTH` radii wide. One inside the other is a hole
-    that nearly touches its outline only where each closes smoothly (``closing_turn``, the
-    larger turn across the edges that close them, at most `HOLE_CLOSING_TURN`): where a slit
-    runs from the outline into the hole, closing each turns back along the slit's walls.
-    ``holes_only``: side by side does not count."""
+    that nearly touches its outline only where the outline closes smoothly (its turn in
+    ``closing_turns``, the turns across the edges that close the two loops, at most
+    `HOLE_CLOSING_TURN`) and the hole not on a spike (`_closes_on_a_spike`): where a slit runs
+    from the outline into the hole, one or the other keeps the slit's walls. The hole may
+    close at a corner of its own: where a hole's corner nears the wall, the march crosses the
+    wall there. ``holes_only``: side by side does not count."""
     one, two = (shapely.Polygon(loop) for loop in loops)
     if not (one.is_valid and two.is_valid):
         return False
     if shapely.intersects(one, two):
-        nested = one.contains_properly(two) or two.contains_properly(one)
-        if not nested or closing_turn > HOLE_CLOSING_TURN:
+        if one.contains_properly(two):
+            outline_turn, hole = closing_turns[0], loops[1]
+        elif two.contains_properly(one):
+            outline_turn, hole = closing_turns[1], loops[0]
+        else:
+            return False
+        if outline_turn > HOLE_CLOSING_TURN or _closes_on_a_spike(hole, radius):
             return False
     elif holes_only:
         return False
     return min(2 * p.area / p.length for p in (one, two)) >= WAIST_WIDTH * radius
+
+
+def _closes_on_a_spike(loop: FloatArray, radius: float) -> bool:
+    """Whether ``loop`` turns back on itself near the edge that closes it (from its last node
+    to its first): at a node within `SPIKE_LENGTH` radii of it, the arms `SPIKE_ARM` radii
+    long turn by more than `SPIKE_TURN`."""
+    ring = shapely.LinearRing(loop)
+    length = ring.length
+    arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(loop, axis=0), axis=1))])
+    closing_starts = arc[-1]
+    near = (arc <= SPIKE_LENGTH * radius) | (arc >= closing_starts - SPIKE_LENGTH * radius)
+    at, arm = arc[near], min(SPIKE_ARM * radius, length / SPIKE_ARMS_ROUND)
+    back = shapely.get_coordinates(shapely.line_interpolate_point(ring, (at - arm) % length))
+    ahead = shapely.get_coordinates(shapely.line_interpolate_point(ring, (at + arm) % length))
+    return bool((_angle(loop[near] - back, ahead - loop[near]) > SPIKE_TURN).any())
