@@ -27,13 +27,19 @@ def out_and_back(stem: FloatArray, side: float, members: cKDTree, radius: float
                  ) -> FloatArray:
     """A stem from its root to its tip and back, the passes ``side`` x its half-width to
     either side (the tip once)."""
-    tangent = np.gradient(stem, axis=0)
-    tangent /= np.maximum(np.linalg.norm(tangent, axis=1, keepdims=True), 1e-300)
-    normal = np.column_stack([-tangent[:, 1], tangent[:, 0]])  # left
+    normal = left_normals(stem)
     half = half_widths(stem, normal, members, radius)
     out = stem[:-1] + side * half[:-1, None] * normal[:-1]
     back = (stem[:-1] - side * half[:-1, None] * normal[:-1])[::-1]
     return np.vstack([out, stem[-1:], back])
+
+
+def left_normals(path: FloatArray) -> FloatArray:
+    """The unit normal to the left of a path at each of its points (from its central
+    differences)."""
+    tangent = np.gradient(path, axis=0)
+    tangent /= np.maximum(np.linalg.norm(tangent, axis=1, keepdims=True), 1e-300)
+    return np.column_stack([-tangent[:, 1], tangent[:, 0]])
 
 
 def half_widths(stem: FloatArray, normal: FloatArray, members: cKDTree, radius: float

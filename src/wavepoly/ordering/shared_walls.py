@@ -33,7 +33,7 @@ from scipy.spatial import cKDTree
 from ..geometry import polyline_distance, polyline_length
 from ..types import FloatArray
 from .faces import COVER_REACH, MERGE_VERTICES, SLIVER_AREA
-from .passes import half_widths
+from .passes import half_widths, left_normals
 from .piece_graph import Edge
 
 #: The two rings share at most this share of either one's length (within a radius of the
@@ -208,9 +208,7 @@ def _rings(lines: list[FloatArray], shared: int, members: FloatArray, radius: fl
 
 def _half_width(wall: FloatArray, members: FloatArray, radius: float) -> float:
     """The median half-width between the two walls along the shared piece."""
-    tangent = np.gradient(wall, axis=0)
-    tangent /= np.maximum(np.linalg.norm(tangent, axis=1, keepdims=True), 1e-300)
-    normal = np.column_stack([-tangent[:, 1], tangent[:, 0]])
+    normal = left_normals(wall)
     return float(np.median(half_widths(wall, normal, cKDTree(members), radius)))
 
 
