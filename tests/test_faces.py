@@ -123,3 +123,46 @@ def test_slits_rooted_a_hair_apart_share_one_root():
     outline = outline_of_faces([ring, *slits], pts, RADIUS)
     assert outline is not None and shapely.Polygon(outline).is_valid
     assert shapely.Polygon(outline).area < 1.0
+
+
+def _legs_with_a_slit_between():
+    """A unit ring in two pieces meeting at (1, 0) and (-1, 0), and a slit cut in from (1, 0):
+    its walls followed apart (2.4 radii at the widest) down to (0.6, 0), where they merge into
+    one chain that runs on to a tip 2.4 radii from the ring's far side: the slit between two
+    legs, reaching down near the body's edge. The upper wall's chain ends on the lower one's,
+    which runs on as the merged chain."""
+    t = np.linspace(0, 2 * np.pi, 600, endpoint=False)
+    ring = np.column_stack([np.cos(t), np.sin(t)])
+    mouth, fork, tip = np.array([1.0, 0.0]), np.array([0.6, 0.0]), np.array([-0.05, -0.88])
+    upper = [mouth, np.array([0.8, 0.06]), fork]
+    lower = [mouth, np.array([0.8, -0.06]), fork]
+    walls = [_walls(a, b, False) for a, b in zip(upper[:-1], upper[1:])]
+    walls += [_walls(a, b, False) for a, b in zip(lower[:-1], lower[1:])]
+    walls.append(_walls(fork, tip, True))
+    pts = np.vstack([ring, *walls])
+    first = np.cumsum([600] + [len(w) for w in walls])
+
+    def chain(corners):
+        return np.vstack([a + np.linspace(0.0, 1.0, 8)[:-1, None] * (b - a)
+                          for a, b in zip(corners[:-1], corners[1:])] + [corners[-1][None]])
+
+    pieces = [OrderedContour(ring[:301:5], False, np.arange(300)),
+              OrderedContour(np.vstack([ring[300::5], ring[:1]]), False, np.arange(300, 600)),
+              OrderedContour(chain(upper), False, np.arange(first[0], first[2])),
+              OrderedContour(chain(lower + [tip]), False, np.arange(first[2], first[5]))]
+    return pts, pieces, tip
+
+
+def test_a_slit_whose_tip_nears_the_far_wall_is_cut_out_to_its_tip():
+    # the tip's end met the ring at a T, closing a cycle through the slit's walls
+    pts, pieces, tip = _legs_with_a_slit_between()
+    out = close_outlines(pieces, pts, RADIUS)
+    assert [c.closed for c in out] == [True]
+    polygon = shapely.Polygon(out[0].points)
+    assert polygon.is_valid
+    assert np.array_equal(np.sort(out[0].members), np.arange(len(pts)))
+    assert not polygon.contains(shapely.Point(0.8, 0.0))  # the slit's wide part
+    assert not polygon.contains(shapely.Point(0.3, -0.4))  # its narrow part
+    assert polygon.contains(shapely.Point(0.0, -0.96))  # the wall beyond its tip
+    assert shapely.distance(polygon.exterior, shapely.Point(tip)) < RADIUS
+    assert shapely.distance(shapely.points(pts), polygon.exterior).max() < RADIUS

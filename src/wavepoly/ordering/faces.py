@@ -14,11 +14,11 @@ from __future__ import annotations
 import numpy as np
 import shapely
 from scipy.spatial import cKDTree
-from shapely.ops import substring
+from shapely.ops import nearest_points, substring
 
 from ..geometry import polyline_distance
 from ..types import FloatArray
-from .passes import out_and_back
+from .passes import MAX_HALF_WIDTH, out_and_back
 from .slits import stems_are_slits
 
 #: A chain inside the region shorter than this many radii is where two pieces crossed by a
@@ -40,13 +40,16 @@ ROOT_OVERLAP = 0.5
 #: Pieces of a region smaller than this many square radii, cut off by a stem's walls where its
 #: path zigzags, are slivers: dropped, when the outline still covers their points.
 SLIVER_AREA = 1.0
+#: A hole of a region touches its outline, a slit's mouth, where they come this close (in
+#: radii): GEOS puts the pieces' shared node on both.
+MOUTH_TOUCH = 1e-6
 #: Consecutive vertices of the outline closer than this many radii are one (set operations
 #: leave slivers of segments where walls meet).
 MERGE_VERTICES = 0.01
 
 
-def outline_of_faces(lines: list[FloatArray], members: FloatArray, radius: float
-                     ) -> FloatArray | None:
+def outline_of_faces(lines: list[FloatArray], members: FloatArray, radius: float,
+                     open_holes: bool = False) -> FloatArray | None:
     """The closed outline of a component of open pieces, read as a region, or None.
 
     Parameters
@@ -61,15 +64,18 @@ def outline_of_faces(lines: list[FloatArray], members: FloatArray, radius: float
     pieces bound no face, bound faces joined only by a bar or a point, the stems are strokes
     (`stems_are_slits`), or the outline misses a point by more than `COVER_REACH` radii.
     GEOS failing on a degenerate arrangement is one more None: the pieces stay as they are.
+    ``open_holes``: the region is the largest face with its holes, each opened where it
+    touches the outline (a slit's wide part, its walls followed apart, behind a mouth the
+    march merged).
     """
     try:
-        return _outline_of_faces(lines, members, radius)
+        return _outline_of_faces(lines, members, radius, open_holes)
     except shapely.errors.GEOSException:
         return None
 
 
-def _outline_of_faces(lines: list[FloatArray], members: FloatArray, radius: float
-                      ) -> FloatArray | None:
+def _outline_of_faces(lines: list[FloatArray], members: FloatArray, radius: float,
+                      open_holes: bool = False) -> FloatArray | None:
     """`outline_of_faces`, GEOS errors and all."""
     parts = list(shapely.get_parts(shapely.node(shapely.MultiLineString(
         [xy for xy in lines if len(xy) >= 2]))))
@@ -77,12 +83,13 @@ def _outline_of_faces(lines: list[FloatArray], members: FloatArray, radius: floa
     if faces.is_empty or not cuts.is_empty:
         return None
     tree = cKDTree(members)
-    for region in _regions(faces):
+    regions = _largest_with_holes(faces, radius) if open_holes else _regions(faces)
+    for region in regions:
         stems, chords = _stems_and_chords(parts, faces, dangles, region, radius)
         if len(chords) > MAX_CHORDS:
             continue
         for cut in _chords_as_slits(chords, region, radius):
-            ring = _region_outline(region, stems + cut, members, tree, radius)
+            ring = _region_outline(region, stems + cut, members, tree, radius, open_holes)
             if ring is not None:
                 return ring
     return None
@@ -99,6 +106,15 @@ def _regions(faces: shapely.Geometry) -> list[shapely.Polygon]:
     return out
 
 
+def _largest_with_holes(faces: shapely.Geometry, radius: float) -> list[shapely.Polygon]:
+    """The largest face, with its holes, where one of them touches its outline."""
+    largest = max(shapely.get_parts(faces), key=lambda f: f.area)
+    if not any(shapely.distance(hole, largest.exterior) <= MOUTH_TOUCH * radius
+               for hole in largest.interiors):
+        return []
+    return [largest]
+
+
 def _stems_and_chords(parts: list[shapely.LineString], faces: shapely.Geometry,
                       dangles: shapely.Geometry, region: shapely.Polygon, radius: float
                       ) -> tuple[list[FloatArray], list[FloatArray]]:
@@ -111,7 +127,7 @@ def _stems_and_chords(parts: list[shapely.LineString], faces: shapely.Geometry,
     bounds = shapely.union_all([f.exterior for f in shapely.get_parts(faces)])
     solid = [p for p in parts if not p.is_empty]
     middle = shapely.line_interpolate_point(solid, 0.5, normalized=True)
-    off_outline = shapely.distance(middle, region.exterior) > tol
+    off_outline = shapely.distance(middle, region.boundary) > tol
     on_a_face = shapely.distance(middle, bounds) <= tol
     inner = [p for p, keep in zip(solid, off_outline & on_a_face) if keep]
     stems = [_from_outline(np.asarray(c.coords), region) for c in _merged(dangles)]
@@ -130,7 +146,7 @@ def _merged(lines: shapely.Geometry) -> list[shapely.LineString]:
 
 def _from_outline(xy: FloatArray, region: shapely.Polygon) -> FloatArray:
     """A polyline from its end nearer the region's outline."""
-    near = shapely.distance(shapely.points(xy[[0, -1]]), region.exterior)
+    near = shapely.distance(shapely.points(xy[[0, -1]]), region.boundary)
     return xy if near[0] <= near[1] else xy[::-1]
 
 
@@ -154,7 +170,8 @@ def _trimmed(path: FloatArray, region: shapely.Polygon, radius: float) -> FloatA
 
 
 def _region_outline(region: shapely.Polygon, stems: list[FloatArray], members: FloatArray,
-                    tree: cKDTree, radius: float) -> FloatArray | None:
+                    tree: cKDTree, radius: float, open_holes: bool = False
+                    ) -> FloatArray | None:
     """The region with each limb's walls added and each slit's cut out: its outline, when
     that is one simple polygon within `COVER_REACH` radii of every member and the stems are
     two walls each."""
@@ -167,6 +184,8 @@ def _region_outline(region: shapely.Polygon, stems: list[FloatArray], members: F
         inside = region.contains(shapely.points(stem[1:])).mean() > 0.5
         out = out.difference(walls) if inside else out.union(walls)
     out = _without_slivers(out, radius)
+    if out is not None and open_holes:
+        out = _without_slivers(_holes_opened(out, radius), radius)
     if out is None or len(out.interiors) or not out.is_valid:
         return None
     ring = shapely.remove_repeated_points(out.exterior, MERGE_VERTICES * radius)
@@ -176,6 +195,19 @@ def _region_outline(region: shapely.Polygon, stems: list[FloatArray], members: F
     if polyline_distance(members, xy, True).max() > COVER_REACH * radius:
         return None
     return xy
+
+
+def _holes_opened(region: shapely.Polygon, radius: float) -> shapely.Geometry:
+    """The region with each hole that touches its outline joined to the outside there by a
+    mouth `passes.MAX_HALF_WIDTH` radii to either side of the point: the march merged the
+    slit's walls there, so they lie within a radius of each other."""
+    for hole in region.interiors:
+        a, b = nearest_points(hole, region.exterior)
+        if a.distance(b) > MOUTH_TOUCH * radius:
+            continue
+        # a square across the point: four vertices, where a disk would draw a bead of them
+        region = region.difference(a.buffer(MAX_HALF_WIDTH * radius, quad_segs=1))
+    return region
 
 
 def _without_slivers(region: shapely.Geometry, radius: float) -> shapely.Polygon | None:

@@ -40,28 +40,22 @@ class Edge:
     piece: int
 
 
-def piece_graph(lines: list[FloatArray], closed: list[bool], radius: float
-           ) -> tuple[list[Edge], FloatArray]:
+def piece_graph(lines: list[FloatArray], closed: list[bool], radius: float,
+                free: frozenset[tuple[int, int]] = frozenset()
+                ) -> tuple[list[Edge], FloatArray]:
     """Pieces cut at the T junctions that the open ones' ends make, as edges between the
-    clustered end nodes (a closed line starts and ends on one node).
+    clustered end nodes (a closed line starts and ends on one node). ``free``: ends (line,
+    0 or -1) that meet nothing, dead ends whatever lies near them.
 
     Each edge remembers its line (``Edge.xy`` is a stretch of it, the junction points added)."""
     cuts: list[list[tuple[float, FloatArray]]] = [[] for _ in lines]
     ends = []
-    geoms = [shapely.LineString(xy) for xy in lines]
-    tree = shapely.STRtree(geoms)
-    for i, xy in enumerate(lines):
-        if closed[i]:
+    for i, e, j, s, q in _junctions(lines, closed, radius):
+        if (i, e) in free:
             continue
-        for e in (0, -1):
-            near = tree.query(shapely.Point(xy[e]), predicate="dwithin",
-                              distance=T_REACH * radius)
-            at = _t_junction(i, xy[e], e, lines, geoms, near, radius)
-            if at is not None:
-                j, s, q = at
-                if s is not None:
-                    cuts[j].append((s, q))
-                ends.append((i, e, q))
+        if s is not None:
+            cuts[j].append((s, q))
+        ends.append((i, e, q))
     lines = [xy.copy() for xy in lines]
     for i, e, q in ends:
         lines[i][e] = q  # the end meets the line it heads into
@@ -78,6 +72,31 @@ def piece_graph(lines: list[FloatArray], closed: list[bool], radius: float
         a, b = label[2 * k], label[2 * k + 1]
         edges.append(Edge(np.vstack([node_xy[a], piece[1:-1], node_xy[b]]), int(a), int(b), i))
     return edges, node_xy
+
+
+def t_ends(lines: list[FloatArray], closed: list[bool], radius: float
+           ) -> list[tuple[int, int]]:
+    """The open lines' ends (line, 0 or -1) that meet the inside of a line: T junctions."""
+    return [(i, e) for i, e, _, s, _ in _junctions(lines, closed, radius) if s is not None]
+
+
+def _junctions(lines: list[FloatArray], closed: list[bool], radius: float
+               ) -> list[tuple[int, int, int, float | None, FloatArray]]:
+    """Where each open line's ends meet a line (`_t_junction`): (line, end, the line met,
+    its arc length or None where it meets that line's end, the point)."""
+    geoms = [shapely.LineString(xy) for xy in lines]
+    tree = shapely.STRtree(geoms)
+    out = []
+    for i, xy in enumerate(lines):
+        if closed[i]:
+            continue
+        for e in (0, -1):
+            near = tree.query(shapely.Point(xy[e]), predicate="dwithin",
+                              distance=T_REACH * radius)
+            at = _t_junction(i, xy[e], e, lines, geoms, near, radius)
+            if at is not None:
+                out.append((i, e, *at))
+    return out
 
 
 def _t_junction(i: int, end: FloatArray, e: int, lines: list[FloatArray],

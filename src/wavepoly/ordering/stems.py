@@ -28,7 +28,7 @@ from ..geometry import polyline_distance, polyline_length
 from ..types import FloatArray, OrderedContour
 from .faces import CHORD_TIP, COVER_REACH, outline_of_faces
 from .passes import out_and_back, smoothed
-from .piece_graph import Edge, bridges, components, degrees, outer_edges, piece_graph
+from .piece_graph import Edge, bridges, components, degrees, outer_edges, piece_graph, t_ends
 from .shared_walls import theta_rings
 from .slits import STEM_DENSITY, stems_are_slits
 from .untangle import crossing_edges, share_members, untangle
@@ -130,10 +130,43 @@ def _closed_components(contours: list[OrderedContour], pick: list[int], points: 
             continue
         rings = theta_rings([k for k in comp if not _speck(edges[k], radius)], edges,
                             points[members], radius)
+        if rings is None:
+            ring = _slit_to_a_dead_end(lines, pick, taken, contours, points[members], radius)
+            rings = None if ring is None else [ring]
         if rings is not None:
             used.update(taken)
             closed += share_members(rings, members, points, closed=True)
     return closed, used
+
+
+def _slit_to_a_dead_end(lines: list[FloatArray], pick: list[int], taken: list[int],
+                        contours: list[OrderedContour], members: FloatArray, radius: float
+                        ) -> FloatArray | None:
+    """The outline of the ``taken`` contours' pieces read as a region with a slit whose tip
+    met the outline across it at a T junction, or None.
+
+    Two legs of a silhouette: the slit between them runs in from the outline, its walls
+    followed apart where it is wide and merged where it narrows, and its tip comes within a
+    few radii of the outline across the body (`piece_graph.T_REACH`). Met at a T there, the
+    slit closes a cycle; with that end a dead end, the region's largest face holds the slit's
+    wide part as a hole touching its outline at the slit's mouth, and its narrow part as a
+    stem from that hole (`faces.outline_of_faces`, ``open_holes``). Every piece must stay in
+    the component, so a stem's root on its cycle is no dead end."""
+    closed = [contours[k].closed for k in pick]
+    mine = {pick.index(k) for k in taken}
+    for end in t_ends(lines, closed, radius):
+        if end[0] not in mine:
+            continue
+        edges, node_xy = piece_graph(lines, closed, radius, free=frozenset([end]))
+        for comp in components(edges, len(node_xy)):
+            if {pick[edges[k].piece] for k in comp} != set(taken):
+                continue
+            comp = [k for k in comp if not _speck(edges[k], radius)]
+            ring = outline_of_faces([edges[k].xy for k in comp], members, radius,
+                                    open_holes=True)
+            if ring is not None:
+                return ring
+    return None
 
 
 
