@@ -169,7 +169,6 @@ def _slit_to_a_dead_end(lines: list[FloatArray], pick: list[int], taken: list[in
     return None
 
 
-
 def _outline(comp: list[int], edges: list[Edge], members: FloatArray, radius: float,
              density: float = 0.0) -> FloatArray | None:
     """The closed walk of a component that is one cycle with stems, or of a lone piece that

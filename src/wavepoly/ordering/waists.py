@@ -196,7 +196,8 @@ def _apart(loops: list[FloatArray], radius: float, closing_turns: tuple[float, f
 def _closes_on_a_spike(loop: FloatArray, radius: float) -> bool:
     """Whether ``loop`` turns back on itself near the edge that closes it (from its last node
     to its first): at a node within `SPIKE_LENGTH` radii of it, the arms `SPIKE_ARM` radii
-    long turn by more than `SPIKE_TURN`."""
+    long (a `SPIKE_ARMS_ROUND`-th of the loop's length where that is shorter) turn by more
+    than `SPIKE_TURN` degrees."""
     ring = shapely.LinearRing(loop)
     length = ring.length
     arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(loop, axis=0), axis=1))])
