@@ -166,3 +166,24 @@ def test_a_slit_whose_tip_nears_the_far_wall_is_cut_out_to_its_tip():
     assert polygon.contains(shapely.Point(0.0, -0.96))  # the wall beyond its tip
     assert shapely.distance(polygon.exterior, shapely.Point(tip)) < RADIUS
     assert shapely.distance(shapely.points(pts), polygon.exterior).max() < RADIUS
+
+
+def test_a_limb_that_ends_in_a_loop_joins_the_region_with_the_slit():
+    # an ear's walls merged along its length and followed apart at its end: a cut edge of the
+    # polygonized pieces (to the loop), which the region with a slit adds as a limb
+    pts, pieces, tip = _legs_with_a_slit_between()
+    root, end = np.array([-0.6, 0.8]), np.array([-0.75, 1.05])
+    limb = _walls(root, end, True)
+    t = np.linspace(0, 2 * np.pi, 40, endpoint=False)
+    loop = end + [0.0, 0.06] + 0.06 * np.column_stack([np.sin(t), -np.cos(t)])  # from end
+    pts = np.vstack([pts, limb, loop])
+    n = len(pts) - len(limb) - len(loop)
+    stem = root + np.linspace(0.0, 1.0, 6)[:, None] * (end - root)
+    pieces.append(OrderedContour(np.vstack([stem, loop[1:], end[None]]), False,
+                                 np.arange(n, len(pts))))
+    out = close_outlines(pieces, pts, RADIUS)
+    assert [c.closed for c in out] == [True]
+    polygon = shapely.Polygon(out[0].points)
+    assert polygon.is_valid
+    assert not polygon.contains(shapely.Point(0.8, 0.0))
+    assert shapely.distance(shapely.points(pts), polygon.exterior).max() < RADIUS

@@ -18,7 +18,7 @@ from shapely.ops import nearest_points, substring
 
 from ..geometry import polyline_distance
 from ..types import FloatArray
-from .passes import MAX_HALF_WIDTH, out_and_back
+from .passes import MAX_HALF_WIDTH, MIN_HALF_WIDTH, out_and_back
 from .slits import stems_are_slits
 
 #: A chain inside the region shorter than this many radii is where two pieces crossed by a
@@ -80,8 +80,12 @@ def _outline_of_faces(lines: list[FloatArray], members: FloatArray, radius: floa
     parts = list(shapely.get_parts(shapely.node(shapely.MultiLineString(
         [xy for xy in lines if len(xy) >= 2]))))
     faces, cuts, dangles, _ = shapely.polygonize_full(parts)
-    if faces.is_empty or not cuts.is_empty:
+    if faces.is_empty or not (cuts.is_empty or open_holes):
         return None
+    heads = shapely.GeometryCollection()
+    if open_holes:  # a limb's merged walls run out to a loop where the march parted them
+        dangles = shapely.union_all([dangles, cuts])
+        faces, heads = _faces_and_heads(faces, radius)
     tree = cKDTree(members)
     regions = _largest_with_holes(faces, radius) if open_holes else _regions(faces)
     for region in regions:
@@ -89,7 +93,8 @@ def _outline_of_faces(lines: list[FloatArray], members: FloatArray, radius: floa
         if len(chords) > MAX_CHORDS:
             continue
         for cut in _chords_as_slits(chords, region, radius):
-            ring = _region_outline(region, stems + cut, members, tree, radius, open_holes)
+            ring = _region_outline(region, stems + cut, members, tree, radius, open_holes,
+                                   heads)
             if ring is not None:
                 return ring
     return None
@@ -104,6 +109,18 @@ def _regions(faces: shapely.Geometry) -> list[shapely.Polygon]:
     if len(polygons) > 1:
         out.append(shapely.Polygon(polygons[0].exterior))
     return out
+
+
+def _faces_and_heads(faces: shapely.Geometry, radius: float
+                     ) -> tuple[shapely.Geometry, shapely.Geometry]:
+    """The faces that meet the largest one (itself among them), and the others: heads, each
+    at the end of a limb's merged walls (a cut edge of the pieces), where the march followed
+    them apart round the limb's tip."""
+    parts = list(shapely.get_parts(faces))
+    largest = max(parts, key=lambda f: f.area)
+    apart = [shapely.distance(f, largest) > MOUTH_TOUCH * radius for f in parts]
+    return (shapely.GeometryCollection([f for f, a in zip(parts, apart) if not a]),
+            shapely.union_all([f for f, a in zip(parts, apart) if a]))
 
 
 def _largest_with_holes(faces: shapely.Geometry, radius: float) -> list[shapely.Polygon]:
@@ -170,11 +187,11 @@ def _trimmed(path: FloatArray, region: shapely.Polygon, radius: float) -> FloatA
 
 
 def _region_outline(region: shapely.Polygon, stems: list[FloatArray], members: FloatArray,
-                    tree: cKDTree, radius: float, open_holes: bool = False
-                    ) -> FloatArray | None:
-    """The region with each limb's walls added and each slit's cut out: its outline, when
-    that is one simple polygon within `COVER_REACH` radii of every member and the stems are
-    two walls each."""
+                    tree: cKDTree, radius: float, open_holes: bool = False,
+                    heads: shapely.Geometry | None = None) -> FloatArray | None:
+    """The region with each limb's walls added and each slit's cut out (and the ``heads`` at
+    the limbs' ends added): its outline, when that is one simple polygon within
+    `COVER_REACH` radii of every member and the stems are two walls each."""
     if stems and not stems_are_slits(*_walk_and_paths(region, stems, radius), members,
                                      radius):
         return None
@@ -183,6 +200,8 @@ def _region_outline(region: shapely.Polygon, stems: list[FloatArray], members: F
         walls = _walls(stem, tree, radius)
         inside = region.contains(shapely.points(stem[1:])).mean() > 0.5
         out = out.difference(walls) if inside else out.union(walls)
+    if heads is not None and not heads.is_empty:  # grown a little, to meet the limb's tip
+        out = out.union(heads.buffer(MIN_HALF_WIDTH * radius, join_style="mitre"))
     out = _without_slivers(out, radius)
     if out is not None and open_holes:
         out = _without_slivers(_holes_opened(out, radius), radius)
@@ -201,13 +220,13 @@ def _holes_opened(region: shapely.Polygon, radius: float) -> shapely.Geometry:
     """The region with each hole that touches its outline joined to the outside there by a
     mouth `passes.MAX_HALF_WIDTH` radii to either side of the point: the march merged the
     slit's walls there, so they lie within a radius of each other."""
+    mouths = []
     for hole in region.interiors:
         a, b = nearest_points(hole, region.exterior)
-        if a.distance(b) > MOUTH_TOUCH * radius:
-            continue
-        # a square across the point: four vertices, where a disk would draw a bead of them
-        region = region.difference(a.buffer(MAX_HALF_WIDTH * radius, quad_segs=1))
-    return region
+        if a.distance(b) <= MOUTH_TOUCH * radius:
+            # a square across the point: four vertices, where a disk would draw a bead of them
+            mouths.append(a.buffer(MAX_HALF_WIDTH * radius, quad_segs=1))
+    return region.difference(shapely.union_all(mouths)) if mouths else region
 
 
 def _without_slivers(region: shapely.Geometry, radius: float) -> shapely.Polygon | None:
