@@ -117,7 +117,7 @@ def _faces_and_heads(faces: shapely.Geometry, radius: float
     at the end of a limb's merged walls (a cut edge of the pieces), where the march followed
     them apart round the limb's tip."""
     parts = list(shapely.get_parts(faces))
-    largest = max(parts, key=lambda f: f.area)
+    largest = _largest(faces)
     apart = [shapely.distance(f, largest) > MOUTH_TOUCH * radius for f in parts]
     return (shapely.GeometryCollection([f for f, a in zip(parts, apart) if not a]),
             shapely.union_all([f for f, a in zip(parts, apart) if a]))
@@ -125,11 +125,20 @@ def _faces_and_heads(faces: shapely.Geometry, radius: float
 
 def _largest_with_holes(faces: shapely.Geometry, radius: float) -> list[shapely.Polygon]:
     """The largest face, with its holes, where one of them touches its outline."""
-    largest = max(shapely.get_parts(faces), key=lambda f: f.area)
-    if not any(shapely.distance(hole, largest.exterior) <= MOUTH_TOUCH * radius
-               for hole in largest.interiors):
-        return []
-    return [largest]
+    largest = _largest(faces)
+    return [largest] if _mouths(largest, radius) else []
+
+
+def _largest(faces: shapely.Geometry) -> shapely.Polygon:
+    """The face of largest area."""
+    return max(shapely.get_parts(faces), key=lambda f: f.area)
+
+
+def _mouths(region: shapely.Polygon, radius: float) -> list[shapely.Point]:
+    """The points where the region's holes touch its outline (within `MOUTH_TOUCH` radii),
+    one per touching hole."""
+    near = (nearest_points(hole, region.exterior) for hole in region.interiors)
+    return [a for a, b in near if a.distance(b) <= MOUTH_TOUCH * radius]
 
 
 def _stems_and_chords(parts: list[shapely.LineString], faces: shapely.Geometry,
@@ -220,12 +229,8 @@ def _holes_opened(region: shapely.Polygon, radius: float) -> shapely.Geometry:
     """The region with each hole that touches its outline joined to the outside there by a
     mouth `passes.MAX_HALF_WIDTH` radii to either side of the point: the march merged the
     slit's walls there, so they lie within a radius of each other."""
-    mouths = []
-    for hole in region.interiors:
-        a, b = nearest_points(hole, region.exterior)
-        if a.distance(b) <= MOUTH_TOUCH * radius:
-            # a square across the point: four vertices, where a disk would draw a bead of them
-            mouths.append(a.buffer(MAX_HALF_WIDTH * radius, quad_segs=1))
+    # a square across each point: four vertices, where a disk would draw a bead of them
+    mouths = [a.buffer(MAX_HALF_WIDTH * radius, quad_segs=1) for a in _mouths(region, radius)]
     return region.difference(shapely.union_all(mouths)) if mouths else region
 
 

@@ -25,6 +25,10 @@ T_REACH = 3.0
 #: them on one point; a T junction found twice lies within it).
 END_REACH = 0.5
 
+#: Where an open line's end meets a line: (line, end 0 or -1, the line met, its arc length
+#: there or None where it meets that line's end, the point).
+Junction = tuple[int, int, int, "float | None", FloatArray]
+
 #: An edge lies on the outline of its rings' region where its segments' midpoints lie within
 #: this fraction of a segment of the region's outline (the region is built from its points).
 ON_OUTLINE = 1e-6
@@ -41,16 +45,17 @@ class Edge:
 
 
 def piece_graph(lines: list[FloatArray], closed: list[bool], radius: float,
-                free: frozenset[tuple[int, int]] = frozenset()
-                ) -> tuple[list[Edge], FloatArray]:
+                free: frozenset[tuple[int, int]] = frozenset(),
+                met: list[Junction] | None = None) -> tuple[list[Edge], FloatArray]:
     """Pieces cut at the T junctions that the open ones' ends make, as edges between the
     clustered end nodes (a closed line starts and ends on one node). ``free``: ends (line,
-    0 or -1) that meet nothing, dead ends whatever lies near them.
+    0 or -1) that meet nothing, dead ends whatever lies near them; ``met``: the lines'
+    `junctions`, where already found.
 
     Each edge remembers its line (``Edge.xy`` is a stretch of it, the junction points added)."""
     cuts: list[list[tuple[float, FloatArray]]] = [[] for _ in lines]
     ends = []
-    for i, e, j, s, q in _junctions(lines, closed, radius):
+    for i, e, j, s, q in junctions(lines, closed, radius) if met is None else met:
         if (i, e) in free:
             continue
         if s is not None:
@@ -74,14 +79,13 @@ def piece_graph(lines: list[FloatArray], closed: list[bool], radius: float,
     return edges, node_xy
 
 
-def t_ends(lines: list[FloatArray], closed: list[bool], radius: float
-           ) -> list[tuple[int, int]]:
-    """The open lines' ends (line, 0 or -1) that meet the inside of a line: T junctions."""
-    return [(i, e) for i, e, _, s, _ in _junctions(lines, closed, radius) if s is not None]
+def t_ends(met: list[Junction]) -> list[tuple[int, int]]:
+    """The open lines' ends (line, 0 or -1) that meet the inside of a line (T junctions),
+    among their `junctions`."""
+    return [(i, e) for i, e, _, s, _ in met if s is not None]
 
 
-def _junctions(lines: list[FloatArray], closed: list[bool], radius: float
-               ) -> list[tuple[int, int, int, float | None, FloatArray]]:
+def junctions(lines: list[FloatArray], closed: list[bool], radius: float) -> list[Junction]:
     """Where each open line's ends meet a line (`_t_junction`): (line, end, the line met,
     its arc length or None where it meets that line's end, the point)."""
     geoms = [shapely.LineString(xy) for xy in lines]

@@ -28,7 +28,17 @@ from ..geometry import polyline_distance, polyline_length
 from ..types import FloatArray, OrderedContour
 from .faces import CHORD_TIP, COVER_REACH, outline_of_faces
 from .passes import out_and_back, smoothed
-from .piece_graph import Edge, bridges, components, degrees, outer_edges, piece_graph, t_ends
+from .piece_graph import (
+    Edge,
+    Junction,
+    bridges,
+    components,
+    degrees,
+    junctions,
+    outer_edges,
+    piece_graph,
+    t_ends,
+)
 from .shared_walls import theta_rings
 from .slits import STEM_DENSITY, stems_are_slits
 from .untangle import crossing_edges, share_members, untangle
@@ -116,7 +126,8 @@ def _closed_components(contours: list[OrderedContour], pick: list[int], points: 
     0: none is)."""
     lines = [np.vstack([contours[k].points, contours[k].points[:1]]) if contours[k].closed
              else contours[k].points for k in pick]
-    edges, node_xy = piece_graph(lines, [contours[k].closed for k in pick], radius)
+    met = junctions(lines, [contours[k].closed for k in pick], radius)
+    edges, node_xy = piece_graph(lines, [contours[k].closed for k in pick], radius, met=met)
     closed, used = [], set()
     for comp in components(edges, len(node_xy)):
         taken = sorted({pick[edges[k].piece] for k in comp})
@@ -131,7 +142,8 @@ def _closed_components(contours: list[OrderedContour], pick: list[int], points: 
         rings = theta_rings([k for k in comp if not _speck(edges[k], radius)], edges,
                             points[members], radius)
         if rings is None:
-            ring = _slit_to_a_dead_end(lines, pick, taken, contours, points[members], radius)
+            ring = _slit_to_a_dead_end(lines, met, pick, taken, contours, points[members],
+                                       radius)
             rings = None if ring is None else [ring]
         if rings is not None:
             used.update(taken)
@@ -139,11 +151,12 @@ def _closed_components(contours: list[OrderedContour], pick: list[int], points: 
     return closed, used
 
 
-def _slit_to_a_dead_end(lines: list[FloatArray], pick: list[int], taken: list[int],
-                        contours: list[OrderedContour], members: FloatArray, radius: float
-                        ) -> FloatArray | None:
-    """The outline of the ``taken`` contours' pieces read as a region with a slit whose tip
-    met the outline across it at a T junction, or None.
+def _slit_to_a_dead_end(lines: list[FloatArray], met: list[Junction], pick: list[int],
+                        taken: list[int], contours: list[OrderedContour], members: FloatArray,
+                        radius: float) -> FloatArray | None:
+    """The outline of the ``taken`` contours' pieces (``lines``, their `junctions` ``met``)
+    read as a region with a slit whose tip met the outline across it at a T junction, or
+    None.
 
     Two legs of a silhouette: the slit between them runs in from the outline, its walls
     followed apart where it is wide and merged where it narrows, and its tip comes within a
@@ -154,10 +167,10 @@ def _slit_to_a_dead_end(lines: list[FloatArray], pick: list[int], taken: list[in
     the component, so a stem's root on its cycle is no dead end."""
     closed = [contours[k].closed for k in pick]
     mine = {pick.index(k) for k in taken}
-    for end in t_ends(lines, closed, radius):
+    for end in t_ends(met):
         if end[0] not in mine:
             continue
-        edges, node_xy = piece_graph(lines, closed, radius, free=frozenset([end]))
+        edges, node_xy = piece_graph(lines, closed, radius, free=frozenset([end]), met=met)
         for comp in components(edges, len(node_xy)):
             if {pick[edges[k].piece] for k in comp} != set(taken):
                 continue
