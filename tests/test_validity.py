@@ -658,6 +658,51 @@ def test_a_shallow_crossing_in_a_neck_stays_one_ring():
     assert len(rings) == 1 and shapely.LinearRing(rings[0]).is_simple
 
 
+def _strip_with_a_swap(width: float = 1.0, swap: float = 0.6, spacing: float = 0.2
+                       ) -> np.ndarray:
+    """A closed chain round a strip 10 long and ``width`` wide that swaps walls half way
+    along, both ways: its two passes cross there like an X (at about 62 degrees)."""
+    def wall(x0, x1, y):
+        n = int(abs(x1 - x0) / spacing)
+        return np.column_stack([np.linspace(x0, x1, n, endpoint=False), np.full(n, y)])
+
+    mid = 5.0
+    return np.vstack([wall(0.0, mid, 0.0), wall(mid + swap, 10.0, width),
+                      wall(10.0, mid + swap, 0.0), wall(mid, 0.0, width)])
+
+
+def test_a_stroke_the_march_crossed_stays_one_ring():
+    """A chain that swapped walls inside a stroke narrower than the neighbourhoods (a serif
+    font's hairline at 4 % of its height) crosses itself as at a kiss, but each loop the
+    split would leave closes on a U-turn across the stroke: one outline, untangled. STIX's
+    's', 'j' and '@' at ε 0.8 (20 high, noise 0.1) were cut in two at a hairline."""
+    from wavepoly.ordering.untangle import (
+        KISS_CLOSING_TURN,
+        _kissing_split,
+        pass_turns,
+        split_kissing_rings,
+    )
+
+    chain = _strip_with_a_swap()
+    (i, j), = crossing_edges(chain, True)
+    _, from_i, from_j = pass_turns(chain, np.array([i]), np.array([j]))
+    assert min(from_i[0], from_j[0]) > KISS_CLOSING_TURN  # both loops turn back
+    assert _kissing_split(chain, radius=0.4) is None
+    rings = split_kissing_rings(chain, radius=0.4)
+    assert len(rings) == 1 and shapely.Polygon(rings[0]).is_valid
+
+
+@pytest.mark.parametrize("char", ["s", "j", "@"])
+def test_serif_hairlines_at_a_coarse_tolerance_keep_their_rings(char):
+    """STIX at ε 0.8 (4 % of its height), whose hairlines are thinner than the neighbourhoods:
+    the march crossed a hairline, and the glyph was cut in two there (`untangle`)."""
+    shape = glyph_outlines(char, height=20.0, family="STIXGeneral")
+    pts = sample_rings(shape.rings, spacing=0.1, noise=0.1, seed=11)
+    result = wavepoly.fit(pts, 0.8)
+    _valid(pts, result)
+    assert [c.closed for c in result.contours] == [True] * len(shape.rings)
+
+
 @pytest.mark.parametrize(("seed", "noise"), [(9, 0.0), (14, 0.0)])
 def test_blobs_touching_at_a_pixel_corner_stay_two_rings(seed, noise):
     """Random blobs (the benchmark's blob sweep, size 0.1) of which two touch at a pixel's

@@ -47,6 +47,15 @@ KISSING_WIDTH = 1.5
 #: (blobs touching at a pixel's corner: 61-87 degrees), where it crossed inside a neck
 #: narrower than the tolerance they run along the neck (17-43 degrees).
 KISS_ANGLE = 50.0
+#: ... and where neither loop closes on a U-turn: the turn (degrees) across the edge that
+#: closes it, between arms of `ARM_NODES` nodes, is at most this. A shape's own outline runs
+#: on round its tip (blobs: 51-115; two circles whose chain left each 60 degrees short of
+#: the kiss: 132); a loop cut across a stroke thinner than the radius turns back along its
+#: other wall (a serif font's hairlines at 4 % of its height: 143-179, a few 122-125).
+KISS_CLOSING_TURN = 140.0
+#: Nodes on either side of a pass that its arms span: the turns are taken between them (3
+#: bends the arms round a small blob's outline as much as the waist turns).
+ARM_NODES = 2
 #: Splits tried on one chain: each split leaves two loops that are split again in turn.
 MAX_SPLITS = 8
 #: A loop of fewer nodes encloses no shape worth a ring of its own.
@@ -107,10 +116,10 @@ def split_kissing_rings(xy: FloatArray, radius: float) -> list[FloatArray]:
     one spot), the march runs along one outline into the neck and straight on along the other:
     the chain visits both rings and crosses itself there. A 2-opt move (`untangle`) would keep
     it one outline with a neck; reconnecting the crossing edges the other way gives the two
-    rings. That is kept where the two passes cross at `KISS_ANGLE` or more, both loops are
-    simple once untangled, lie side by side (neither meets nor holds the other) and are both
-    at least `KISSING_WIDTH` radii wide. Each loop is split again where it still crosses
-    itself.
+    rings. That is kept where the two passes cross at `KISS_ANGLE` or more, neither loop
+    closes on a U-turn (`KISS_CLOSING_TURN`: a stroke cut across), both loops are simple once
+    untangled, lie side by side (neither meets nor holds the other) and are both at least
+    `KISSING_WIDTH` radii wide. Each loop is split again where it still crosses itself.
     """
     return [untangle(ring, True) for ring in split_repeatedly(xy, partial(_kissing_split,
                                                                          radius=radius))]
@@ -143,12 +152,41 @@ def _kissing_split(xy: FloatArray, radius: float) -> list[FloatArray] | None:
                  untangle(np.concatenate([xy[j + 1:], xy[:i + 1]]), True)]
         if min(len(loop) for loop in loops) < MIN_LOOP_NODES:
             continue
+        _, from_i, from_j = pass_turns(xy, np.array([i]), np.array([j]))
+        if max(from_i[0], from_j[0]) > KISS_CLOSING_TURN:
+            continue  # a stroke cut across: its two walls, not two shapes
         polys = [shapely.Polygon(loop) for loop in loops]
         if not all(p.is_valid for p in polys) or shapely.intersects(*polys):
             continue
         if min(2 * p.area / p.length for p in polys) >= KISSING_WIDTH * radius:
             return loops
     return None
+
+
+def pass_turns(xy: FloatArray, i: IntArray, j: IntArray
+               ) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """For each pair of edges i and j: how much the chain turns (degrees) across them,
+    summed, and across each of the two edges that reconnect them the other way (from i, and
+    from j); each turn taken between the arms of `ARM_NODES` nodes on either side (a short
+    edge's own direction is noise)."""
+    n, k = len(xy), ARM_NODES
+
+    def arm_in(a: IntArray) -> FloatArray:  # direction arriving at node a
+        return xy[a % n] - xy[(a - k) % n]
+
+    def arm_out(a: IntArray) -> FloatArray:  # direction leaving node a
+        return xy[(a + k) % n] - xy[a % n]
+
+    old = angle_between(arm_in(i), arm_out(i + 1)) + angle_between(arm_in(j), arm_out(j + 1))
+    return (old, angle_between(arm_in(i), arm_out(j + 1)),
+            angle_between(arm_in(j), arm_out(i + 1)))
+
+
+def angle_between(a: FloatArray, b: FloatArray) -> FloatArray:
+    """Angle (degrees) between the directions in each row of a and b."""
+    norms = np.maximum(np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1), 1e-300)
+    cos = np.einsum("ij,ij->i", a, b) / norms
+    return np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
 
 
 def _crossing_angle(xy: FloatArray, i: int, j: int) -> float:

@@ -33,7 +33,7 @@ import shapely
 
 from ..types import FloatArray, IntArray
 from .marching import turning
-from .untangle import MIN_LOOP_NODES, split_repeatedly
+from .untangle import ARM_NODES, MIN_LOOP_NODES, angle_between, pass_turns, split_repeatedly
 
 #: Two passes of a ring at most this many radii apart may be a waist: the march crosses
 #: between two outlines that come within about a radius of each other, and where they run
@@ -55,9 +55,6 @@ TURN_GAIN = 60.0
 #: `ARM_NODES` nodes on either side of each pass is at most this (blobs: 1-13; a chain
 #: zigzagging through a thin part of a silhouette traced from a bitmap: 60 and more).
 ARM_TURN = 30.0
-#: Nodes on either side of a pass that its arms span: the turns are taken between them (3
-#: bends the arms round a small blob's outline as much as the waist turns).
-ARM_NODES = 2
 #: Each shape is at least this many radii wide (twice its area over its perimeter, a disk's
 #: radius): a disk 4 radii across, the smallest ring counted as a shape of its own.
 WAIST_WIDTH = 2.0
@@ -106,7 +103,7 @@ def _waist_split(xy: FloatArray, radius: float, holes_only: bool = False
                          np.linalg.norm(xy[i] - xy[(j + 1) % n], axis=1))
     short = closing <= CLOSING_EDGE * radius
     i, j = i[short], j[short]
-    old, new_i, new_j = _pass_turns(xy, i, j)
+    old, new_i, new_j = pass_turns(xy, i, j)
     gain = old - new_i - new_j
     keep = gain > TURN_GAIN
     i, j, gain, new_i, new_j = i[keep], j[keep], gain[keep], new_i[keep], new_j[keep]
@@ -121,31 +118,6 @@ def _waist_split(xy: FloatArray, radius: float, holes_only: bool = False
         if _apart(loops, radius, (float(new_j[k]), float(new_i[k])), holes_only):
             return loops
     return None
-
-
-def _pass_turns(xy: FloatArray, i: IntArray, j: IntArray
-                ) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """For each pair of edges i and j: how much the chain turns (degrees) across them,
-    summed, and across each of the two edges that reconnect them the other way (from i, and
-    from j); each turn taken between the arms of `ARM_NODES` nodes on either side (a short
-    edge's own direction is noise)."""
-    n, k = len(xy), ARM_NODES
-
-    def arm_in(a: IntArray) -> FloatArray:  # direction arriving at node a
-        return xy[a % n] - xy[(a - k) % n]
-
-    def arm_out(a: IntArray) -> FloatArray:  # direction leaving node a
-        return xy[(a + k) % n] - xy[a % n]
-
-    old = _angle(arm_in(i), arm_out(i + 1)) + _angle(arm_in(j), arm_out(j + 1))
-    return old, _angle(arm_in(i), arm_out(j + 1)), _angle(arm_in(j), arm_out(i + 1))
-
-
-def _angle(a: FloatArray, b: FloatArray) -> FloatArray:
-    """Angle (degrees) between the directions in each row of a and b."""
-    norms = np.maximum(np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1), 1e-300)
-    cos = np.einsum("ij,ij->i", a, b) / norms
-    return np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
 
 
 def _near_edges(xy: FloatArray, gap: float) -> tuple[IntArray, IntArray]:
@@ -206,4 +178,4 @@ def _closes_on_a_spike(loop: FloatArray, radius: float) -> bool:
     at, arm = arc[near], min(SPIKE_ARM * radius, length / SPIKE_ARMS_ROUND)
     back = shapely.get_coordinates(shapely.line_interpolate_point(ring, (at - arm) % length))
     ahead = shapely.get_coordinates(shapely.line_interpolate_point(ring, (at + arm) % length))
-    return bool((_angle(loop[near] - back, ahead - loop[near]) > SPIKE_TURN).any())
+    return bool((angle_between(loop[near] - back, ahead - loop[near]) > SPIKE_TURN).any())
