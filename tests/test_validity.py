@@ -703,6 +703,19 @@ def test_serif_hairlines_at_a_coarse_tolerance_keep_their_rings(char):
     assert [c.closed for c in result.contours] == [True] * len(shape.rings)
 
 
+@pytest.mark.parametrize(("char", "spacing", "noise", "eps"),
+                         [("x", 0.1, 0.1, 0.8), ("A", 0.15, 0.05, 1.2), ("w", 0.15, 0.05, 1.2)])
+def test_a_finer_reading_that_closes_more_wins_over_an_exact_one(char, spacing, noise, eps):
+    """STIX at ε 4-6 % of its height: read as noise, the walls of its strokes looked like
+    scatter; read exactly at the tolerance's radius, pieces stayed open ('A' three of four),
+    where at half the radius every ring closes (`ordering._mends_more`)."""
+    shape = glyph_outlines(char, height=20.0, family="STIXGeneral")
+    pts = sample_rings(shape.rings, spacing=spacing, noise=noise, seed=11)
+    result = wavepoly.fit(pts, eps)
+    _valid(pts, result)
+    assert [c.closed for c in result.contours] == [True] * len(shape.rings)
+
+
 @pytest.mark.parametrize(("seed", "noise"), [(9, 0.0), (14, 0.0)])
 def test_blobs_touching_at_a_pixel_corner_stay_two_rings(seed, noise):
     """Random blobs (the benchmark's blob sweep, size 0.1) of which two touch at a pixel's
