@@ -45,6 +45,21 @@ def test_a_limb_tip_closed_apart_is_joined_to_its_outline():
     assert len(out[0].members) == len(_ring(body, 0).members) + len(_ring(tip, 0).members)
 
 
+@pytest.mark.parametrize("walls", [True, False])
+def test_a_tip_beyond_a_wide_gap_joins_only_where_the_walls_run_across(walls):
+    """A tip 2 radii beyond the hairpin joins where the limb's walls run on across the gap;
+    with nothing between, it is a dot beyond a stroke's end (a '?' at ε 4 % of its height,
+    its dot 2.5 radii below the stem), a ring of its own."""
+    body = shapely.union(_box(-1, 1, -0.5, 0.5), _box(0.9, 1.3, -W, W))
+    tip = _box(1.3 + 2 * RADIUS, 1.6, -T, T)
+    x = np.arange(1.3, 1.3 + 2 * RADIUS, RADIUS / 3)
+    across = np.vstack([np.column_stack([x, np.full_like(x, side * T)]) for side in (-1, 1)])
+    rings, points = _with_points(body, tip, across if walls else np.empty((0, 2)))
+    out = rejoin_split_tips(rings, RADIUS, points)
+    assert len(out) == (1 if walls else 2) and all(c.closed for c in out)
+    assert len(rejoin_split_tips(rings, RADIUS)) == 1  # without the points, not asked
+
+
 def _folded(ring: OrderedContour) -> OrderedContour:
     """The ring with a fold of no width: its chain runs on along an edge, back, and on again
     (the march's zigzag in a thin part, which leaves the polygon invalid)."""

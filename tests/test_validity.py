@@ -764,3 +764,13 @@ def test_a_ring_fitted_first_keeps_clear_of_a_closed_neighbour_still_to_come():
     pts, result, _ = blob_sweep_case(36, 0.25)
     assert all(c.closed for c in result.contours)
     _valid(pts, result)
+
+
+def test_a_dot_beyond_a_strokes_end_stays_a_ring():
+    """STIX's '?' at ε 0.8: its dot lies 2.5 radii below the stem's end with nothing between,
+    and was joined to the stem as a thin limb's tip the march had closed apart."""
+    shape = glyph_outlines("?", height=20.0, family="STIXGeneral")
+    pts = sample_rings(shape.rings, spacing=0.1, noise=0.1, seed=11)
+    result = wavepoly.fit(pts, 0.8)
+    _valid(pts, result)
+    assert [c.closed for c in result.contours] == [True, True]

@@ -37,6 +37,14 @@ KEYHOLE_GAP = 1.5
 #: middle half (one per wall; the keyholes held 2-5, and a glyph's counter facing the notch
 #: of its neck across 1.4 radii of solid stroke, 'g' at a tolerance of 0.3, none).
 KEYHOLE_WALLS = 2
+#: A tip ring farther than this many radii from the outline's hairpin joins it only where
+#: the walls run on across the gap: at least one point lies across its middle half. The
+#: silhouettes' tips lie up to 1.4 radii off, most with one to seven points across, some with
+#: none (gaps of 0.5 and 1.04 radii, where the line between the rings crosses the slit). A
+#: round dot 2.5 radii beyond a stroke's end with nothing between (a '?' at ε 4 % of its
+#: height) is a ring of its own; so, wrongly, is a ball terminal the march left as far from
+#: its stroke (Computer Modern's 'a' at that tolerance).
+TIP_BARE_GAP = 1.5
 #: A tip ring is thin: its mean width (twice its area over its perimeter) is at most this
 #: many radii, two walls the march followed as one chain, or a limb's tip as narrow.
 TIP_WIDTH = 2.0
@@ -56,8 +64,9 @@ def rejoin_split_tips(contours: list[OrderedContour], radius: float,
     contours : the ordered contours; only the closed ones are read.
     radius : the neighbourhood radius of the ordering.
     points : the input points, which the contours' members index: the walls of a slit that
-        reaches a hole run on across the gap between them (`KEYHOLE_WALLS`). Without them no
-        hole is joined.
+        reaches a hole run on across the gap between them (`KEYHOLE_WALLS`), and so do a
+        tip's across a gap wider than `TIP_BARE_GAP`. Without them no hole is joined, and a
+        tip across any gap up to `TIP_GAP`.
     """
     rings = [k for k, c in enumerate(contours) if c.closed]
     if len(rings) < 2:
@@ -76,7 +85,7 @@ def rejoin_split_tips(contours: list[OrderedContour], radius: float,
                                       distance=(KEYHOLE_GAP if hole else TIP_GAP) * radius)
                 if j != i and out[rings[j]] is not None]
         for j in sorted(near, key=lambda j: shapely.distance(lines[i], lines[j])):
-            joined = _joined(out[rings[j]], out[b], radius, points if hole else None)
+            joined = _joined(out[rings[j]], out[b], radius, points, hole)
             if joined is not None:
                 out[rings[j]], out[b] = joined, None
                 lines[j] = shapely.LinearRing(joined.points)  # an outline grows by its tip
@@ -102,12 +111,14 @@ def _polygon(xy: FloatArray) -> shapely.Polygon | None:
 
 
 def _joined(outline: OrderedContour, tip: OrderedContour, radius: float,
-            hole_points: FloatArray | None = None) -> OrderedContour | None:
+            points: FloatArray | None = None, hole: bool = False) -> OrderedContour | None:
     """The outline with the tip joined at its hairpin, or None where the tip does not run on
-    from a hairpin of the outline, or the join is no simple polygon. A hole (no thin tip:
-    ``hole_points`` given, the input points) joins only inside the outline, where the
-    outline's hairpin (a slit's end) or its own (the hole's end of the slit) points at the
-    other across the gap, and the slit's walls run on across it (`_walls_across`)."""
+    from a hairpin of the outline, the walls do not run on across a gap wider than
+    `TIP_BARE_GAP` (``points``: the input points; without them, not asked), or the join is
+    no simple polygon. A ``hole`` (no thin tip; ``points`` needed) joins only inside the
+    outline, where the outline's hairpin (a slit's end) or its own (the hole's end of the
+    slit) points at the other across the gap, and the slit's walls run on across it
+    (`_walls_across`)."""
     a_xy, b_xy = outline.points, tip.points
     pa, pb = (np.asarray(p) for p in shapely.shortest_line(
         shapely.LinearRing(a_xy), shapely.LinearRing(b_xy)).coords)
@@ -115,14 +126,17 @@ def _joined(outline: OrderedContour, tip: OrderedContour, radius: float,
     a_poly, b_poly = _polygon(a_xy), _polygon(b_xy)
     if a_poly is None or b_poly is None:  # the fit's selection may yet make it valid
         return None
-    if hole_points is not None:
-        members = hole_points[np.union1d(outline.members, tip.members)]
-        if (not a_poly.contains(b_poly)
+    members = None if points is None else points[np.union1d(outline.members, tip.members)]
+    if hole:
+        if (members is None or not a_poly.contains(b_poly)
                 or not (_hairpin_at(a_xy, pa, pb, radius) or _hairpin_at(b_xy, pb, pa, radius))
                 or _walls_across(members, pa, pb, radius) < KEYHOLE_WALLS):
             return None
     elif not _hairpin_at(a_xy, pa, far, radius):
         return None
+    elif (points is not None and np.linalg.norm(pb - pa) > TIP_BARE_GAP * radius
+          and _walls_across(points, pa, pb, radius) == 0):
+        return None  # nothing between: a dot beyond a stroke's end
     reach = BRIDGE_REACH * radius
     ends = np.vstack([pa, pb, a_xy[np.linalg.norm(a_xy - pa, axis=1) <= reach],
                       b_xy[np.linalg.norm(b_xy - pb, axis=1) <= reach]])
