@@ -126,11 +126,11 @@ def _joined(outline: OrderedContour, tip: OrderedContour, radius: float,
     a_poly, b_poly = _polygon(a_xy), _polygon(b_xy)
     if a_poly is None or b_poly is None:  # the fit's selection may yet make it valid
         return None
-    members = None if points is None else points[np.union1d(outline.members, tip.members)]
     if hole:
-        if (members is None or not a_poly.contains(b_poly)
+        if (points is None or not a_poly.contains(b_poly)
                 or not (_hairpin_at(a_xy, pa, pb, radius) or _hairpin_at(b_xy, pb, pa, radius))
-                or _walls_across(members, pa, pb, radius) < KEYHOLE_WALLS):
+                or _walls_across(points[np.union1d(outline.members, tip.members)], pa, pb,
+                                 radius) < KEYHOLE_WALLS):
             return None
     elif not _hairpin_at(a_xy, pa, far, radius):
         return None

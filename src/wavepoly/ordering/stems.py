@@ -126,8 +126,9 @@ def _closed_components(contours: list[OrderedContour], pick: list[int], points: 
     0: none is)."""
     lines = [np.vstack([contours[k].points, contours[k].points[:1]]) if contours[k].closed
              else contours[k].points for k in pick]
-    met = junctions(lines, [contours[k].closed for k in pick], radius)
-    edges, node_xy = piece_graph(lines, [contours[k].closed for k in pick], radius, met=met)
+    closed_lines = [contours[k].closed for k in pick]
+    met = junctions(lines, closed_lines, radius)
+    edges, node_xy = piece_graph(lines, closed_lines, radius, met=met)
     closed, used = [], set()
     for comp in components(edges, len(node_xy)):
         taken = sorted({pick[edges[k].piece] for k in comp})
@@ -142,8 +143,8 @@ def _closed_components(contours: list[OrderedContour], pick: list[int], points: 
         rings = theta_rings([k for k in comp if not _speck(edges[k], radius)], edges,
                             points[members], radius)
         if rings is None:
-            ring = _slit_to_a_dead_end(lines, met, pick, taken, contours, points[members],
-                                       radius)
+            ring = _slit_to_a_dead_end(lines, closed_lines, met, pick, taken,
+                                       points[members], radius)
             rings = None if ring is None else [ring]
         if rings is not None:
             used.update(taken)
@@ -151,12 +152,12 @@ def _closed_components(contours: list[OrderedContour], pick: list[int], points: 
     return closed, used
 
 
-def _slit_to_a_dead_end(lines: list[FloatArray], met: list[Junction], pick: list[int],
-                        taken: list[int], contours: list[OrderedContour], members: FloatArray,
-                        radius: float) -> FloatArray | None:
-    """The outline of the ``taken`` contours' pieces (``lines``, their `junctions` ``met``)
-    read as a region with a slit whose tip met the outline across it at a T junction, or
-    None.
+def _slit_to_a_dead_end(lines: list[FloatArray], closed: list[bool], met: list[Junction],
+                        pick: list[int], taken: list[int], members: FloatArray, radius: float
+                        ) -> FloatArray | None:
+    """The outline of the ``taken`` contours' pieces (``lines``, whether each is ``closed``,
+    their `junctions` ``met``) read as a region with a slit whose tip met the outline across
+    it at a T junction, or None.
 
     Two legs of a silhouette: the slit between them runs in from the outline, its walls
     followed apart where it is wide and merged where it narrows, and its tip comes within a
@@ -165,7 +166,6 @@ def _slit_to_a_dead_end(lines: list[FloatArray], met: list[Junction], pick: list
     wide part as a hole touching its outline at the slit's mouth, and its narrow part as a
     stem from that hole (`faces.outline_of_faces`, ``open_holes``). Every piece must stay in
     the component, so a stem's root on its cycle is no dead end."""
-    closed = [contours[k].closed for k in pick]
     mine = {pick.index(k) for k in taken}
     for end in t_ends(met):
         if end[0] not in mine:

@@ -148,13 +148,13 @@ def _kissing_split(xy: FloatArray, radius: float) -> list[FloatArray] | None:
     for i, j in crossing_edges(xy, True):
         if _crossing_angle(xy, i, j) < KISS_ANGLE:
             continue
+        _, from_i, from_j = pass_turns(xy, np.array([i]), np.array([j]))
+        if max(from_i[0], from_j[0]) > KISS_CLOSING_TURN:
+            continue  # a stroke cut across: its two walls, not two shapes
         loops = [untangle(xy[i + 1:j + 1], True),
                  untangle(np.concatenate([xy[j + 1:], xy[:i + 1]]), True)]
         if min(len(loop) for loop in loops) < MIN_LOOP_NODES:
             continue
-        _, from_i, from_j = pass_turns(xy, np.array([i]), np.array([j]))
-        if max(from_i[0], from_j[0]) > KISS_CLOSING_TURN:
-            continue  # a stroke cut across: its two walls, not two shapes
         polys = [shapely.Polygon(loop) for loop in loops]
         if not all(p.is_valid for p in polys) or shapely.intersects(*polys):
             continue
