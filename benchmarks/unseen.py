@@ -43,8 +43,9 @@ SHAPE_HAUSDORFF = 1.5
 #: printed text (letters' strokes a few pixels thick, thinner than the coarser tolerance).
 PHOTOS = {"coins": False, "camera": True, "text": True, "page": True}
 SPECK_PIXELS = 64
-#: Their samplings: (diagonal / ε, noise in ε).
-PHOTO_SAMPLINGS = ((300, 0.0), (300, 0.25), (150, 0.125))
+#: Their samplings: (diagonal / ε, noise in ε), or None: the tracer's own points (one where
+#: the outline crosses each pixel edge, on a staircase), as a user who traces a mask has them.
+PHOTO_SAMPLINGS = ((300, 0.0), (300, 0.25), (150, 0.125), (300, None), (150, None))
 
 
 def unseen_sweep(truth, right_rings) -> str:
@@ -78,10 +79,13 @@ def unseen_sweep(truth, right_rings) -> str:
             "the lines, which forgives two shapes drawn as one outline, or one as two, where "
             "they touch or overlap by less than an ε (the points cannot tell those apart).\n\n"
             + table(["source", "ε", "noise", "right", "by shape", "invalid", "seconds"], rows)
-            + "\n\nThe photographs (`PHOTOS`), sampled the same way: *rings*: the true rings at "
-            "least 4 ε across; *drawn alone*: those drawn by one closed contour that draws no "
-            "other (a contour draws a ring where a quarter of its length runs within 1.5 ε of "
-            "it); *shape*: the Hausdorff distance between the true and the drawn lines.\n\n"
+            + "\n\nThe photographs (`PHOTOS`), sampled the same way, and as *traced*: the "
+            "tracer's own points (one where the outline crosses a pixel edge, a staircase "
+            "spaced 0.5-1 pixel), as a user who traces a mask has them. *rings*: the true "
+            "rings at least 4 ε across; *drawn alone*: those drawn by one closed contour that "
+            "draws no other (a contour draws a ring where a quarter of its length runs within "
+            "1.5 ε of it); *shape*: the Hausdorff distance between the true and the drawn "
+            "lines.\n\n"
             + table(["photo", "ε", "noise", "rings", "drawn alone", "closed/open", "outliers",
                      "invalid", "shape", "seconds"], photo_rows))
 
@@ -100,9 +104,10 @@ def _row(name: str, cases: list[list[np.ndarray]], eps: float, noise: float, tru
             f"{shaped}/{len(cases)}", invalid, time.perf_counter() - t0]
 
 
-def _photo_row(name: str, div: float, noise: float, truth) -> list[object]:
-    """One photograph (`PHOTOS`) thresholded, traced, sampled and fitted at ε = its diagonal /
-    ``div``: its rings, those drawn alone, what the fit gives, and the distance to the truth."""
+def _photo_row(name: str, div: float, noise: float | None, truth) -> list[object]:
+    """One photograph (`PHOTOS`) thresholded, traced, sampled (``noise`` None: the traced
+    points themselves) and fitted at ε = its diagonal / ``div``: its rings, those drawn alone,
+    what the fit gives, and the distance to the truth."""
     from skimage import data, filters, morphology
 
     image = getattr(data, name)()
@@ -111,12 +116,14 @@ def _photo_row(name: str, div: float, noise: float, truth) -> list[object]:
                                            max_size=SPECK_PIXELS)
     rings, eps = traced_mask(mask), float(np.hypot(*mask.shape)) / div
     length = sum(shapely.LinearRing(r).length for r in rings)
+    pts = (np.vstack(rings) if noise is None
+           else sample(rings, int(3 * length / eps), noise * eps, 7))
     t0 = time.perf_counter()
-    res = wavepoly.fit(sample(rings, int(3 * length / eps), noise * eps, 7), eps)
+    res = wavepoly.fit(pts, eps)
     seconds = time.perf_counter() - t0
     closed = np.array([c.closed for c in res.contours], dtype=bool)
     draws = drawn_rings(rings, res.contours, eps)
-    return [name, f"{eps:.3g} px", f"{noise:g} ε", draws.shape[1],
+    return [name, f"{eps:.3g} px", "traced" if noise is None else f"{noise:g} ε", draws.shape[1],
             drawn_alone(draws, closed), f"{closed.sum()}/{(~closed).sum()}",
             len(res.outliers), len(truth.independent_problems(res)),
             f"{shape_distance(rings, res.contours, eps) / eps:.2f} ε", seconds]
