@@ -233,11 +233,13 @@ if __name__ == "__main__":
     print(run())
 
 
-#: The silhouette sweep: (points, ε as a share of the diagonal, noise as a share of ε).
-#: (bitmap pixels across the diagonal or None for the exact outline, points, ε, noise in ε)
+#: The silhouette sweep: (bitmap pixels across the diagonal or None for the exact outline,
+#: points or None for the tracer's own (one where the outline crosses a pixel edge), ε as a
+#: share of the diagonal, noise in ε).
 SILHOUETTE_SAMPLINGS = ((None, 3000, 1 / 300, 1 / 8), (None, 1000, 1 / 150, 0.0),
                         (None, 1000, 1 / 150, 1 / 4), (300, 3000, 1 / 150, 1 / 8),
-                        (200, 2000, 1 / 100, 1 / 4))
+                        (200, 2000, 1 / 100, 1 / 4), (300, None, 1 / 150, 0.0),
+                        (600, None, 1 / 300, 0.0))
 SILHOUETTES = 60
 #: ... and exact outlines thinned across x to a share of their density (points at full
 #: density, ε, noise in ε, the share kept on the sparse side).
@@ -265,15 +267,16 @@ def silhouette_sweep() -> str:
         t0 = time.perf_counter()
         for seed in range(SILHOUETTES):
             rings = silhouette(seed) if pixels is None else bitmap(silhouette(seed), pixels)
-            res = wavepoly.fit(sample(rings, n, noise * eps, 1000 + seed), eps)
+            pts = np.vstack(rings) if n is None else sample(rings, n, noise * eps, 1000 + seed)
+            res = wavepoly.fit(pts, eps)
             problems = truth.independent_problems(res)
             invalid += bool(problems)
             right += (not problems and len(res.outliers) == 0
                       and all(c.closed for c in res.contours)
                       and _one_per_ring(rings, res.contours, eps))
-        rows.append(["exact" if pixels is None else f"bitmap {pixels} px", n,
-                     f"diagonal / {1 / eps:g}", f"{noise:g} ε", f"{right}/{SILHOUETTES}",
-                     invalid, time.perf_counter() - t0])
+        rows.append(["exact" if pixels is None else f"bitmap {pixels} px",
+                     "traced" if n is None else n, f"diagonal / {1 / eps:g}", f"{noise:g} ε",
+                     f"{right}/{SILHOUETTES}", invalid, time.perf_counter() - t0])
     for n, eps, noise, floor in THINNED_SAMPLINGS:
         right = invalid = 0
         t0 = time.perf_counter()
@@ -292,7 +295,8 @@ def silhouette_sweep() -> str:
             "elliptic body with bent limbs, a head, wedge slits cut in "
             "whose walls run closer than ε for most of their length, sometimes a hole; sampled "
             "uniformly along the outline, exact or as a bitmap's traced outline (staircase "
-            "walls, spurs and notches a pixel wide, as a silhouette image gives them), or with "
+            "walls, spurs and notches a pixel wide, as a silhouette image gives them; *traced*: "
+            "the tracer's own points, one where the outline crosses a pixel edge), or with "
             "their density thinned linearly across the part to a quarter on one side (the "
             "points column: at full density). *right*: "
             "every contour closed, one per ring (each ring drawn by one contour of its own, "

@@ -633,3 +633,33 @@ def test_a_gap_in_a_smooth_outline_closes_without_points():
     bare = Support(cKDTree(pts), 1.0, every_wide_join=False)
     joined = np.sort(join_ends(nodes, links, bare), axis=1).tolist()
     assert sorted((0, len(nodes.xy) - 1)) in joined
+
+
+def test_a_coarser_reading_that_folds_an_outline_onto_itself_is_not_kept():
+    """`_coarser_reading`: where a clean reading left an outline open on a scan sparse on one
+    side, a reading at the sparse side's radius is kept where it closes every outline, but
+    not where the ring it closed is an outline walked out along one side of a stretch and
+    back along the other (its mean width, twice its area over its perimeter, under its
+    radius): in a plane through a shallow face the turbine blade's section came out so, a
+    layer of 3 % of the section's area."""
+    from wavepoly.ordering import FOLDED_WIDTH, _coarser_reading
+    from wavepoly.types import OrderedContour, Ordering
+
+    rng = np.random.default_rng(0)
+    t = np.concatenate([rng.uniform(0, np.pi, 2000), rng.uniform(np.pi, 2 * np.pi, 600)])
+    pts = 10 * np.column_stack([np.cos(t), np.sin(t)])  # 0.016 apart, then 0.05
+    members = np.arange(len(pts))
+    broken = Ordering([OrderedContour(pts[t < 6], False, members[t < 6])],
+                      members[t >= 6], 0.05, clean=True)
+    u = np.linspace(0, 2 * np.pi, 400, endpoint=False)
+    circle = np.column_stack([np.cos(u), np.sin(u)])
+    for width, kept in ((0.05, False), (10.0, True)):
+        inner = circle[::-1] * (10 - width)  # a strip ring 0.05 wide, or the whole disk
+        ring = 10 * circle if width == 10.0 else np.vstack([10 * circle, inner])
+
+        def read(radius, sparse, ring=ring):
+            assert FOLDED_WIDTH * radius > 0.05  # the sparse side's three spacings
+            return Ordering([OrderedContour(ring, True, members)], members[:0], radius,
+                            clean=True)
+
+        assert (_coarser_reading(broken, pts, 0.05, 0, read) is not None) == kept

@@ -67,6 +67,7 @@ from dataclasses import replace
 from functools import partial
 
 import numpy as np
+import shapely
 
 from ..geometry import polyline_distance
 from ..types import FloatArray, Ordering
@@ -178,8 +179,13 @@ FINER_SCATTER = 0.1
 #: side: 22 of 30 right, against 30 of 30 sampled evenly)...
 COARSER_AT_LEAST = 1.3
 #: ... on clouds of at most this many points (a silhouette, a slice; a laser map is no clean
-#: reading, and a second one would cost seconds).
+#: reading, and a second one would cost seconds); and it is not kept where a ring it closed is
+#: narrower on average (twice its area over its perimeter) than this share of its radius: an
+#: outline folded onto itself, walked out along one side of a noisy stretch and back along
+#: the other (the turbine blade's section in a plane through a shallow face, 0.07 radii: a
+#: layer of 3 % of the section's area), not a part's outline.
 COARSER_POINTS = 200_000
+FOLDED_WIDTH = 1.0
 
 #: On a dense noisy scan a node summarizes at least this many points: one point has no
 #: tangent (its regression line points anywhere), and strays on a laser map's floor, one per
@@ -297,9 +303,17 @@ def _coarser_reading(ordering: Ordering, pts: FloatArray, radius: float, seed: i
     if (not wide.clean or len(wide.outliers) > len(ordering.outliers) or _open(wide) > 0
             or len(wide.contours) < len(ordering.contours) - _open(ordering)):
         return None  # a reading that closes only some (a slab cut along a face) is no better
+    if any(_mean_width(c.points) < FOLDED_WIDTH * coarse for c in wide.contours):
+        return None
     note = (f"read at a radius of {coarse:.4g}: the point spacing varies across the scan, and "
             f"at {radius:.4g} the march broke outlines where the points are sparsest")
     return replace(wide, notes=(*wide.notes, note))
+
+
+def _mean_width(ring: FloatArray) -> float:
+    """Twice a closed ring's area over its perimeter: a strip's width, a disk's radius."""
+    polygon = shapely.Polygon(ring)
+    return 2 * abs(polygon.area) / max(polygon.length, 1e-300)
 
 
 def _exact_reading(ordering: Ordering, pts: FloatArray, tolerance: float | None,
