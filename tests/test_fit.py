@@ -303,3 +303,21 @@ def test_points_far_from_the_origin_fit_as_near_it(seed, offset):
     assert far.validity.valid and len(far.outliers) == 0
     # measured where the user's tools measure it, up to the float steps there (1e-6 at 5e9)
     assert distance_to_output(pts + offset, far).max() <= eps + 1e-5
+
+
+def test_outliers_that_are_specks_say_so():
+    """A traced mask's holes of a pixel or two, at a tolerance of two pixels, are outliers:
+    each lies within the tolerance of its own points, too small for a polygon to show. The
+    notes say how many of the outliers are such specks, and where the first is; a clean ring
+    alone has no such note."""
+    import wavepoly
+
+    t = np.linspace(0, 2 * np.pi, 600, endpoint=False)
+    ring = 20 * np.column_stack([np.cos(t), np.sin(t)])
+    diamond = np.array([[0.5, 0.0], [0.0, 0.5], [-0.5, 0.0], [0.0, -0.5]])
+    specks = np.vstack([diamond + at for at in ([40.0, 0.0], [0.0, 40.0], [-40.0, 5.0])])
+    res = wavepoly.fit(np.vstack([ring, specks]), 2.0)
+    assert [c.closed for c in res.contours] == [True] and len(res.outliers) == 12
+    assert any(n.startswith("12 of the 12 outlier(s) lie in 3 speck(s)") and "(40, 0)" in n
+               for n in res.notes)
+    assert not any("speck" in n for n in wavepoly.fit(ring, 2.0).notes)

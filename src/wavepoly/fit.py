@@ -21,6 +21,8 @@ from .geometry import curve_line, nest_contours, orient_by_depth, polyline_dista
 from .junctions import meet_at_junctions
 from .levels import decompose_contour
 from .ordering import SPACINGS_PER_RADIUS, order_points
+from .ordering.islands import ISLAND_EXTENT
+from .ordering.neighbourhoods import point_clusters
 from .ordering.noise import BELL_MARGIN, NOISE_MARGIN, NOISE_NOTE, below_the_bell
 from .pieces import join_at_ends, noded_contours, split_crossings
 from .reconstruction import reconstruct_contour
@@ -166,7 +168,7 @@ def fit(points: FloatArray, tolerance: float, *,
     if not contours:
         notes.append("no contour found: every point is an outlier at this radius")
     suggested, tolerance_notes = _tolerance_notes(tolerance, ordering, len(beyond))
-    notes += tolerance_notes
+    notes += tolerance_notes + _speck_notes(pts, outliers, ordering, tolerance)
     return FitResult(contours, tolerance, float(errors.max()), float(mean), outliers,
                      len(pts), parents, reports, timings, tuple(notes), validity=validity,
                      suggested_tolerance=suggested)
@@ -337,6 +339,30 @@ def _outliers_left(points: FloatArray, outliers: IntArray, contours: list[Contou
     np.minimum.at(gap, point, shapely.distance(where[point], tree.geometries[line]))
     covered = np.isfinite(gap)
     return outliers[~covered], float(gap[covered].max())
+
+
+def _speck_notes(points: FloatArray, outliers: IntArray, ordering: Ordering,
+                 tolerance: float) -> list[str]:
+    """On a clean scan, a note on the outliers that are specks: groups (points within the
+    radius of one another) under `ISLAND_EXTENT` tolerances across, such as a traced mask's
+    holes of a pixel or two, which lie within the tolerance of their own points and are no
+    shape a polygon could show."""
+    if not ordering.clean or not len(outliers):
+        return []
+    xy = points[outliers]
+    label = point_clusters(xy, ordering.radius)
+    lo = np.column_stack([np.full(label.max() + 1, np.inf)] * 2)
+    hi = -lo
+    np.minimum.at(lo, label, xy)
+    np.maximum.at(hi, label, xy)
+    small = np.linalg.norm(hi - lo, axis=1) < ISLAND_EXTENT * tolerance
+    in_specks = int(small[label].sum())
+    if not in_specks:
+        return []
+    first = (lo[small][0] + hi[small][0]) / 2
+    return [f"{in_specks} of the {len(outliers)} outlier(s) lie in {int(small.sum())} "
+            f"speck(s) under {ISLAND_EXTENT:g} x the tolerance across (the first by "
+            f"({first[0]:.4g}, {first[1]:.4g})): too small for a polygon to show"]
 
 
 def _ordered_ring(oc: OrderedContour) -> Contour:
