@@ -53,8 +53,10 @@ Python loop runs over points:
    contours open (`FINER_RADIUS`).
 7. Where read as noise the curves run through the middle of it and leave a fifth of the points
    out, the scan is read again as a clean sample, and that reading is kept where it holds
-   every point but a few within the tolerance (`MIDDLE_LOSS`): small shapes with sharp
-   corners look like scatter to the windows that measure the noise. Where the finer reading
+   every point but a few within the tolerance (`MIDDLE_LOSS`), or, where the noisy reading's
+   own curves are mostly open, ten times as many as it did (`EXACT_GAIN`): small shapes with
+   sharp corners, and letters packed side by side, look like scatter to the windows that
+   measure the noise. Where the finer reading
    of 6. mends it too, that one is kept where it leaves fewer open or out (`_mends_more`).
 
 All neighbour queries use `scipy.spatial.cKDTree`; the cost is O(n log n).
@@ -179,12 +181,13 @@ FINER_SCATTER = 0.1
 #: side: 22 of 30 right, against 30 of 30 sampled evenly)...
 COARSER_AT_LEAST = 1.3
 #: ... on clouds of at most this many points (a silhouette, a slice; a laser map is no clean
-#: reading, and a second one would cost seconds); and it is not kept where a ring it closed is
-#: narrower on average (twice its area over its perimeter) than this share of its radius: an
-#: outline folded onto itself, walked out along one side of a noisy stretch and back along
-#: the other (the turbine blade's section in a plane through a shallow face, 0.07 radii: a
-#: layer of 3 % of the section's area), not a part's outline.
+#: reading, and a second one would cost seconds).
 COARSER_POINTS = 200_000
+#: That reading is not kept where a ring it closed is narrower on average (twice its area
+#: over its perimeter) than this share of its radius: an outline folded onto itself, walked
+#: out along one side of a noisy stretch and back along the other (the turbine blade's
+#: section in a plane through a shallow face, 0.07 radii: a layer of 3 % of the section's
+#: area), not a part's outline, which a neighbourhood of that radius could not have spanned.
 FOLDED_WIDTH = 1.0
 
 #: On a dense noisy scan a node summarizes at least this many points: one point has no
@@ -292,7 +295,7 @@ def _coarser_reading(ordering: Ordering, pts: FloatArray, radius: float, seed: i
     (`sparse_side_spacing`), where its density varies so much that this is at least
     `COARSER_AT_LEAST` x ``radius`` and the clean reading at ``radius`` left outlines open;
     kept where it leaves no more points out, every outline closed and none of the closed ones
-    lost; else None.
+    lost, and none folded onto itself (`FOLDED_WIDTH`); else None.
     """
     if not ordering.clean or _open(ordering) == 0 or len(pts) > COARSER_POINTS:
         return None

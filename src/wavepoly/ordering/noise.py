@@ -163,7 +163,9 @@ def noise_level(seeds: FloatArray, atoms: Atoms, radius: float, sample: int = NO
     `NOISE_KURTOSIS` (two walls side by side, each sharp, or a flat band) the spread is a shape
     of the data, counted as no noise, so that neighbourhoods stay narrow enough to see it;
     unless the band fills the window (`FILLED_BAND`) at most seeds, when the scatter is
-    measured again over wider windows (`WIDER_WINDOWS`). Where the window holds two walls
+    measured again over wider windows (`WIDER_WINDOWS`), and what they find counts only
+    where it fits its window as a bell (`_bell_fits`: letters packed side by side spread a
+    third of a window widened past them). Where the window holds two walls
     side by side (`wavepoly.ordering.walls.two_walls_spread`), the noise is each wall's own
     scatter, not their spread about a line between them (a heavy tail, as noise has).
 
