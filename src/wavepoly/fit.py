@@ -21,7 +21,7 @@ from .geometry import curve_line, nest_contours, orient_by_depth, polyline_dista
 from .junctions import meet_at_junctions
 from .levels import decompose_contour
 from .ordering import SPACINGS_PER_RADIUS, order_points
-from .ordering.islands import ISLAND_EXTENT
+from .ordering.islands import ISLAND_EXTENT, group_extents
 from .ordering.neighbourhoods import point_clusters
 from .ordering.noise import BELL_MARGIN, NOISE_MARGIN, NOISE_NOTE, below_the_bell
 from .pieces import join_at_ends, noded_contours, split_crossings
@@ -351,15 +351,12 @@ def _speck_notes(points: FloatArray, outliers: IntArray, ordering: Ordering,
         return []
     xy = points[outliers]
     label = point_clusters(xy, ordering.radius)
-    lo = np.column_stack([np.full(label.max() + 1, np.inf)] * 2)
-    hi = -lo
-    np.minimum.at(lo, label, xy)
-    np.maximum.at(hi, label, xy)
-    small = np.linalg.norm(hi - lo, axis=1) < ISLAND_EXTENT * tolerance
+    small = group_extents(xy, label) < ISLAND_EXTENT * tolerance
     in_specks = int(small[label].sum())
     if not in_specks:
         return []
-    first = (lo[small][0] + hi[small][0]) / 2
+    speck = xy[label == np.flatnonzero(small)[0]]
+    first = (speck.min(axis=0) + speck.max(axis=0)) / 2
     return [f"{in_specks} of the {len(outliers)} outlier(s) lie in {int(small.sum())} "
             f"speck(s) under {ISLAND_EXTENT:g} x the tolerance across (the first by "
             f"({first[0]:.4g}, {first[1]:.4g})): too small for a polygon to show"]

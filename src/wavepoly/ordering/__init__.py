@@ -345,9 +345,8 @@ def _exact_reading(ordering: Ordering, pts: FloatArray, tolerance: float | None,
     # the noisy reading's middle fell apart too, and the exact one keeps far more points
     decisive = (exact_out <= left_out / EXACT_GAIN
                 and 2 * _open(ordering) > len(ordering.contours))
-    if exact_out > EXACT_LOSS * len(pts) and not decisive:
-        return None
-    if not decisive and _open(exact) >= FRAGMENTS * max(len(ordering.contours), 1):
+    if not decisive and (exact_out > EXACT_LOSS * len(pts)
+                         or _open(exact) >= FRAGMENTS * max(len(ordering.contours), 1)):
         return None
     if shaped and (_open(exact), len(exact.outliers)) >= (_open(ordering), len(ordering.outliers)):
         return None

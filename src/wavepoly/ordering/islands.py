@@ -42,19 +42,26 @@ def island_contours(outliers: IntArray, pts: FloatArray, radius: float, toleranc
         return [], outliers
     xy = pts[outliers]
     label = point_clusters(xy, radius)
+    wide = group_extents(xy, label) >= ISLAND_EXTENT * tolerance
     found, used = [], []
-    for g in np.flatnonzero(np.bincount(label) >= ISLAND_POINTS):
+    for g in np.flatnonzero((np.bincount(label) >= ISLAND_POINTS) & wide):
         members = np.flatnonzero(label == g)
-        group = xy[members]
-        if np.linalg.norm(group.max(axis=0) - group.min(axis=0)) < ISLAND_EXTENT * tolerance:
-            continue
-        contour = _island(group, outliers[members])
+        contour = _island(xy[members], outliers[members])
         if contour is not None:
             found.append(contour)
             used.append(outliers[members])
     if not found:
         return [], outliers
     return found, np.setdiff1d(outliers, np.concatenate(used))
+
+
+def group_extents(xy: FloatArray, label: IntArray) -> FloatArray:
+    """The diagonal of each labelled group's bounding box (labels 0..k-1)."""
+    lo = np.full((label.max(initial=-1) + 1, 2), np.inf)
+    hi = -lo
+    np.minimum.at(lo, label, xy)
+    np.maximum.at(hi, label, xy)
+    return np.linalg.norm(hi - lo, axis=1)
 
 
 def _island(group: FloatArray, members: IntArray) -> OrderedContour | None:
