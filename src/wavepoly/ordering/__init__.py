@@ -32,7 +32,8 @@ Python loop runs over points:
    two radii of its contour is a member, the tail of that scatter, which the polygon covers.
    A ring the march drew around two shapes that nearly touch, pinched at a waist where each
    of its passes turns from one shape onto the other, is split into the two, as is a hole
-   that nearly touches its outline (`waists`).
+   that nearly touches its outline, and two rings side by side that the march stepped
+   between on a node or two where one's points thin out (`waists`).
    A group of outliers or a short stroke beyond a closed contour's sharp turn is the tip of a
    notch the march turned back from: the turn's vertex moves out to it (`tips`). Open pieces
    that form one cycle with stems hanging off it (a slit or a thin limb whose walls the march

@@ -19,7 +19,7 @@ from .gaps import close_gaps
 from .marching import CORNER_TURN, turning
 from .mouths import join_through_mouths
 from .neighbourhoods import Nodes
-from .split_tips import rejoin_split_tips
+from .split_tips import rejoin_split_tips, thin_ring
 from .stems import close_outlines
 from .tips import extend_tips
 from .untangle import (
@@ -161,10 +161,33 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
     if stems and clean:
         contours = close_gaps(close_outlines(contours, pts, radius), pts, radius)
         contours = _split_off_holes(_untangled(contours), pts, radius)
-        contours = join_through_mouths(rejoin_split_tips(contours, radius, pts), pts, radius)
+        contours = _split_grown(contours, join_through_mouths(
+            rejoin_split_tips(contours, radius, pts), pts, radius), pts, radius)
         if any(not c.closed for c in contours):  # the outlines closed since take their tips
             contours, outliers = extend_tips(contours, outliers, pts, radius, outlier_gap)
     return contours, outliers
+
+
+def _split_grown(before: list[OrderedContour], after: list[OrderedContour],
+                 pts: FloatArray, radius: float) -> list[OrderedContour]:
+    """The contours ``after`` their tips were rejoined (`split_tips`, `mouths`), each outline
+    that grew by thin rings alone split at its waists (`waists`): where the march swapped
+    between two rings closer than the neighbourhoods at two places, it closed thin loops of
+    half of one and half of the other, which join as each other's tips into one ring
+    pinched where the two come close. An outline that a wide ring joined (a hole a slit
+    reaches, a limb closed on itself) is left whole."""
+    kept = {id(c) for c in before}
+    gone = [c for c in before if c.closed and id(c) not in {id(d) for d in after}]
+    out: list[OrderedContour] = []
+    for c in after:
+        grown_by = [g for g in gone if np.isin(g.members[:1], c.members).all()]
+        if (id(c) in kept or not c.closed
+                or not all(thin_ring(g.points, radius) for g in grown_by)):
+            out.append(c)
+            continue
+        rings = split_at_waists(c.points, radius)
+        out += [c] if len(rings) == 1 else share_members(rings, c.members, pts, closed=True)
+    return out
 
 
 def _untangled(contours: list[OrderedContour]) -> list[OrderedContour]:

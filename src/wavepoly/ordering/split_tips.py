@@ -78,7 +78,7 @@ def rejoin_split_tips(contours: list[OrderedContour], radius: float,
         b = rings[i]
         if out[b] is None:
             continue
-        hole = not _thin(out[b].points, radius)  # a hole a slit may reach, else a tip
+        hole = not thin_ring(out[b].points, radius)  # a hole a slit may reach, else a tip
         if hole and points is None:
             continue
         near = [j for j in tree.query(lines[i], predicate="dwithin",
@@ -94,7 +94,7 @@ def rejoin_split_tips(contours: list[OrderedContour], radius: float,
     return [c for c in out if c is not None]
 
 
-def _thin(xy: FloatArray, radius: float) -> bool:
+def thin_ring(xy: FloatArray, radius: float) -> bool:
     """Whether a ring's mean width is at most `TIP_WIDTH` radii."""
     ring = _polygon(xy)
     return ring is not None and 2 * ring.area <= TIP_WIDTH * radius * ring.length

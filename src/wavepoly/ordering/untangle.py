@@ -163,13 +163,16 @@ def _kissing_split(xy: FloatArray, radius: float) -> list[FloatArray] | None:
     return None
 
 
-def pass_turns(xy: FloatArray, i: IntArray, j: IntArray
-               ) -> tuple[FloatArray, FloatArray, FloatArray]:
+def pass_turns(xy: FloatArray, i: IntArray, j: IntArray, after_i: IntArray | None = None,
+               after_j: IntArray | None = None) -> tuple[FloatArray, FloatArray, FloatArray]:
     """For each pair of edges i and j: how much the chain turns (degrees) across them,
     summed, and across each of the two edges that reconnect them the other way (from i, and
     from j); each turn taken between the arms of `ARM_NODES` nodes on either side (a short
-    edge's own direction is noise)."""
+    edge's own direction is noise). ``after_i``, ``after_j``: the nodes the passes run on
+    from, where nodes between are left out (default i + 1 and j + 1)."""
     n, k = len(xy), ARM_NODES
+    after_i = i + 1 if after_i is None else after_i
+    after_j = j + 1 if after_j is None else after_j
 
     def arm_in(a: IntArray) -> FloatArray:  # direction arriving at node a
         return xy[a % n] - xy[(a - k) % n]
@@ -177,9 +180,10 @@ def pass_turns(xy: FloatArray, i: IntArray, j: IntArray
     def arm_out(a: IntArray) -> FloatArray:  # direction leaving node a
         return xy[(a + k) % n] - xy[a % n]
 
-    old = angle_between(arm_in(i), arm_out(i + 1)) + angle_between(arm_in(j), arm_out(j + 1))
-    return (old, angle_between(arm_in(i), arm_out(j + 1)),
-            angle_between(arm_in(j), arm_out(i + 1)))
+    old = (angle_between(arm_in(i), arm_out(after_i))
+           + angle_between(arm_in(j), arm_out(after_j)))
+    return (old, angle_between(arm_in(i), arm_out(after_j)),
+            angle_between(arm_in(j), arm_out(after_i)))
 
 
 def angle_between(a: FloatArray, b: FloatArray) -> FloatArray:

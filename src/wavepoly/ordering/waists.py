@@ -22,6 +22,11 @@ outline into the hole (a keyhole, one outline) the one keeps the slit's walls as
 the other as a spike. A slit narrower than about ε (its walls' noise) reads like a hole's
 wall as thin, and is split too. Outlines that the stems pass closes from open pieces
 (`stems`) are searched for such holes too.
+
+Two rings closer than the neighbourhoods that run side by side for a while (circles 2 ε
+apart with noise ε / 4) read the same where one's points thin out: the march steps across
+on a node or two between them and back beside where it stepped in, a hairpin each way.
+Those bridge nodes are left out of both rings (`BRIDGE_NODES`).
 """
 
 from __future__ import annotations
@@ -55,6 +60,15 @@ TURN_GAIN = 60.0
 #: `ARM_NODES` nodes on either side of each pass is at most this (blobs: 1-13; a chain
 #: zigzagging through a thin part of a silhouette traced from a bitmap: 60 and more).
 ARM_TURN = 30.0
+#: A pass may cross the waist by up to this many nodes between the shapes (where one
+#: shape's points thin out, the march steps across on a node between them), left out of
+#: both rings.
+BRIDGE_NODES = 2
+#: ... where that pass turns back by more than this (degrees): the march ran along one shape
+#: and back along the other (a neck's wall turns 90 degrees at each end).
+BRIDGE_TURN = 135.0
+#: ... and where the two rings run side by side for at least this many nodes each.
+BRIDGED_RUN = 8
 #: Each shape is at least this many radii wide (twice its area over its perimeter, a disk's
 #: radius): a disk 4 radii across, the smallest ring counted as a shape of its own.
 WAIST_WIDTH = 2.0
@@ -94,30 +108,69 @@ def split_at_waists(xy: FloatArray, radius: float, holes_only: bool = False
 def _waist_split(xy: FloatArray, radius: float, holes_only: bool = False
                  ) -> list[FloatArray] | None:
     """The two rings of the waist of closed chain ``xy`` that gains the most turning, or
-    None where no waist splits it into simple, wide rings side by side."""
+    None where no waist splits it into simple, wide rings side by side. A pass may cross
+    the waist by a node or two between the shapes (`BRIDGE_NODES`), left out of both."""
     n = len(xy)
     if n < 2 * MIN_LOOP_NODES:
         return None
-    i, j = _near_edges(xy, WAIST_GAP * radius)
-    closing = np.maximum(np.linalg.norm(xy[j] - xy[i + 1], axis=1),
-                         np.linalg.norm(xy[i] - xy[(j + 1) % n], axis=1))
-    short = closing <= CLOSING_EDGE * radius
-    i, j = i[short], j[short]
-    old, new_i, new_j = pass_turns(xy, i, j)
-    gain = old - new_i - new_j
-    keep = gain > TURN_GAIN
-    i, j, gain, new_i, new_j = i[keep], j[keep], gain[keep], new_i[keep], new_j[keep]
-    if not len(i):
-        return None
-    smooth = _smooth_arms(turning(xy, True, step=1), i, j)
+    near_i, near_j = _near_edges(xy, WAIST_GAP * radius)
+    turn = turning(xy, True, step=1)
+    found = [_waists(xy, near_i, near_j, a, b, radius, turn)
+             for a in range(BRIDGE_NODES + 1) for b in range(BRIDGE_NODES + 1)]
+    i, j, a, b, gain, new_i, new_j = (np.concatenate(f) for f in zip(*found))
     for k in np.argsort(-gain, kind="stable"):  # the largest gain first, then the first pair
-        if not smooth[k]:
-            continue
-        loops = [xy[i[k] + 1:j[k] + 1], np.concatenate([xy[j[k] + 1:], xy[:i[k] + 1]])]
+        loops = [xy[np.arange(i[k] + 1 + a[k], j[k] + 1)],
+                 xy[np.arange(j[k] + 1 + b[k], i[k] + n + 1) % n]]
+        if (a[k] or b[k]) and not _side_by_side(loops, radius):
+            continue  # a neck between two lobes, not two rings a gap apart
         # the edge from j closes the first loop, the edge from i the second
         if _apart(loops, radius, (float(new_j[k]), float(new_i[k])), holes_only):
             return loops
     return None
+
+
+def _side_by_side(loops: list[FloatArray], radius: float) -> bool:
+    """Whether at least `BRIDGED_RUN` nodes of each loop lie within `WAIST_GAP` radii of
+    the other: two rings that run side by side for a while, which the march crossed between
+    where one's points thin out, not lobes that a narrow neck joins."""
+    one, two = (shapely.LinearRing(loop) for loop in loops)
+    return all(int((shapely.distance(shapely.points(loop), other) <= WAIST_GAP * radius).sum())
+               >= BRIDGED_RUN for loop, other in ((loops[0], two), (loops[1], one)))
+
+
+def _waists(xy: FloatArray, i: IntArray, j: IntArray, a: int, b: int, radius: float,
+            turn: FloatArray) -> tuple[np.ndarray, ...]:
+    """Of the pairs of edges i and j near each other, those that make a waist when the
+    ``a`` nodes after i and the ``b`` after j are left out: the loops keep
+    `MIN_LOOP_NODES` nodes, the edges that close them are at most `CLOSING_EDGE` radii,
+    the split takes away more than `TURN_GAIN` of turning, and the outlines run smoothly
+    into the waist (``turn``: each node's turn). Returns i, j, a, b, the gain and the turns
+    across the closing edges from i and from j."""
+    n = len(xy)
+    after_i, after_j = i + 1 + a, (j + 1 + b) % n
+    keep = (j + 1 - after_i >= MIN_LOOP_NODES) & (i + n + 1 - (j + 1 + b) >= MIN_LOOP_NODES)
+    closing = np.maximum(np.linalg.norm(xy[j] - xy[after_i % n], axis=1),
+                         np.linalg.norm(xy[i] - xy[after_j], axis=1))
+    keep &= closing <= CLOSING_EDGE * radius
+    i, j, after_i, after_j = i[keep], j[keep], after_i[keep], after_j[keep]
+    old, new_i, new_j = pass_turns(xy, i, j, after_i, after_j)
+    gain = old - new_i - new_j
+    keep = (gain > TURN_GAIN) & _smooth_arms(turn, i, j, after_i, after_j)
+    for skipped, start, end in ((a, i, after_i), (b, j, after_j)):
+        if skipped:  # the nodes left out bridge a hairpin, not a neck's wall
+            keep &= _pass_turn(xy, start, end) > BRIDGE_TURN
+    k = int(keep.sum())
+    return (i[keep], j[keep], np.full(k, a), np.full(k, b), gain[keep], new_i[keep],
+            new_j[keep])
+
+
+def _pass_turn(xy: FloatArray, start: IntArray, end: IntArray) -> FloatArray:
+    """How much closed chain ``xy`` turns (degrees) from arriving at node ``start`` to
+    leaving node ``end``, between arms of `ARM_NODES` nodes."""
+    n = len(xy)
+    arriving = xy[start % n] - xy[(start - ARM_NODES) % n]
+    leaving = xy[(end + ARM_NODES) % n] - xy[end % n]
+    return angle_between(arriving, leaving)
 
 
 def _near_edges(xy: FloatArray, gap: float) -> tuple[IntArray, IntArray]:
@@ -130,11 +183,15 @@ def _near_edges(xy: FloatArray, gap: float) -> tuple[IntArray, IntArray]:
     return i[keep], j[keep]
 
 
-def _smooth_arms(turn: FloatArray, i: IntArray, j: IntArray) -> np.ndarray:
-    """Whether the chain runs smoothly into the waist at each pair of edges i and j: the
-    median turn of the `ARM_NODES` nodes before and after each pass is at most `ARM_TURN`."""
-    offsets = np.concatenate([np.arange(-ARM_NODES, 0), np.arange(2, 2 + ARM_NODES)])
-    arms = np.concatenate([i[:, None] + offsets, j[:, None] + offsets], axis=1) % len(turn)
+def _smooth_arms(turn: FloatArray, i: IntArray, j: IntArray, after_i: IntArray,
+                 after_j: IntArray) -> np.ndarray:
+    """Whether the chain runs smoothly into the waist at each pair of passes, from i to
+    ``after_i`` and from j to ``after_j``: the median turn of the `ARM_NODES` nodes before
+    each pass and after it is at most `ARM_TURN`."""
+    before = np.arange(-ARM_NODES, 0)
+    beyond = np.arange(1, 1 + ARM_NODES)
+    arms = np.concatenate([i[:, None] + before, after_i[:, None] + beyond,
+                           j[:, None] + before, after_j[:, None] + beyond], axis=1) % len(turn)
     return np.median(turn[arms], axis=1) <= ARM_TURN
 
 
