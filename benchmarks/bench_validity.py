@@ -18,6 +18,7 @@ from wavepoly.samples import TrueShape, glyph_outlines, sample_rings
 from .coarse import coarse_sweep
 from .common import ROOT, SHARED, table
 from .holes import hole_sweep, keyhole_sweep
+from .near_rings import near_rings_sweep
 from .silhouettes import DRAWS_NEAR, MIN_RING_EXTENT, drawn_rings
 from .unseen import unseen_sweep
 
@@ -177,7 +178,8 @@ def run() -> str:
                      "teeth", "free space", "outliers", "vertices", "vs covering min-#",
                      "seconds"], rows)
             + "\n\n" + glyph_sweep() + "\n\n" + silhouette_sweep() + "\n\n" + blob_sweep()
-            + "\n\n" + hole_sweep(truth) + "\n\n" + keyhole_sweep(truth)
+            + "\n\n" + near_rings_sweep(truth) + "\n\n" + hole_sweep(truth)
+            + "\n\n" + keyhole_sweep(truth)
             + "\n\n" + unseen_sweep(truth, _one_per_ring) + "\n\n" + coarse_sweep(truth)
             + "\n\n" + laser_sweep())
 

@@ -90,7 +90,7 @@ def test_rings_swapped_between_across_bridge_nodes_come_apart(gap):
     between them, runs back round it and steps out again beside where it stepped in. Split
     with the bridge nodes kept in the loops, each loop turns back at a spike (the code
     before this left it one ring); left out, the two rings come apart."""
-    outer, inner, cut = 10.0, 10.0 - gap, 0.03
+    outer, inner, cut = 14.0, 14.0 - gap, 0.02
 
     def polar(r, angle):
         return [r * np.cos(angle), r * np.sin(angle)]

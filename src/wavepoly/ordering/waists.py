@@ -67,8 +67,13 @@ BRIDGE_NODES = 2
 #: ... where that pass turns back by more than this (degrees): the march ran along one shape
 #: and back along the other (a neck's wall turns 90 degrees at each end).
 BRIDGE_TURN = 135.0
-#: ... and where the two rings run side by side for at least this many nodes each.
+#: ... and where the two rings run side by side for at least this many nodes each...
 BRIDGED_RUN = 8
+#: ... and each is at least this many radii wide (twice its area over its perimeter): at a
+#: small shape's scale a bridge of nodes reads the same as a neck or the gap between two
+#: serifs (STIX 'h' and Computer Modern's 'r' at ε 0.8 lost their counter and terminal
+#: as rings of their own); circles 30 ε across are 28 radii wide.
+BRIDGED_WIDTH = 8.0
 #: Each shape is at least this many radii wide (twice its area over its perimeter, a disk's
 #: radius): a disk 4 radii across, the smallest ring counted as a shape of its own.
 WAIST_WIDTH = 2.0
@@ -122,7 +127,7 @@ def _waist_split(xy: FloatArray, radius: float, holes_only: bool = False
         loops = [xy[np.arange(i[k] + 1 + a[k], j[k] + 1)],
                  xy[np.arange(j[k] + 1 + b[k], i[k] + n + 1) % n]]
         if (a[k] or b[k]) and not _side_by_side(loops, radius):
-            continue  # a neck between two lobes, not two rings a gap apart
+            continue  # a neck or a glyph's stroke, not two wide rings a gap apart
         # the edge from j closes the first loop, the edge from i the second
         if _apart(loops, radius, (float(new_j[k]), float(new_i[k])), holes_only):
             return loops
@@ -130,10 +135,14 @@ def _waist_split(xy: FloatArray, radius: float, holes_only: bool = False
 
 
 def _side_by_side(loops: list[FloatArray], radius: float) -> bool:
-    """Whether at least `BRIDGED_RUN` nodes of each loop lie within `WAIST_GAP` radii of
-    the other: two rings that run side by side for a while, which the march crossed between
-    where one's points thin out, not lobes that a narrow neck joins."""
-    one, two = (shapely.LinearRing(loop) for loop in loops)
+    """Whether both loops are at least `BRIDGED_WIDTH` radii wide and at least
+    `BRIDGED_RUN` nodes of each lie within `WAIST_GAP` radii of the other: two wide rings
+    that run side by side for a while, which the march crossed between where one's points
+    thin out, not lobes that a narrow neck joins, nor a small shape's parts."""
+    polygons = [shapely.Polygon(loop) for loop in loops]
+    if min(2 * p.area / max(p.length, 1e-300) for p in polygons) < BRIDGED_WIDTH * radius:
+        return False
+    one, two = (p.exterior for p in polygons)
     return all(int((shapely.distance(shapely.points(loop), other) <= WAIST_GAP * radius).sum())
                >= BRIDGED_RUN for loop, other in ((loops[0], two), (loops[1], one)))
 
