@@ -36,6 +36,7 @@ from functools import partial
 import numpy as np
 import shapely
 
+from ..geometry import polyline_length
 from ..types import FloatArray, IntArray
 from .marching import turning
 from .untangle import ARM_NODES, MIN_LOOP_NODES, angle_between, pass_turns, split_repeatedly
@@ -120,8 +121,12 @@ def _waist_split(xy: FloatArray, radius: float, holes_only: bool = False
         return None
     near_i, near_j = _near_edges(xy, WAIST_GAP * radius)
     turn = turning(xy, True, step=1)
+    # two loops each BRIDGED_WIDTH wide are each at least 2 pi times that long, less the
+    # edges that close them
+    shortest = (4 * np.pi * BRIDGED_WIDTH - 2 * CLOSING_EDGE) * radius
+    bridges = BRIDGE_NODES if polyline_length(xy, True) >= shortest else 0
     found = [_waists(xy, near_i, near_j, a, b, radius, turn)
-             for a in range(BRIDGE_NODES + 1) for b in range(BRIDGE_NODES + 1)]
+             for a in range(bridges + 1) for b in range(bridges + 1)]
     i, j, a, b, gain, new_i, new_j = (np.concatenate(f) for f in zip(*found))
     for k in np.argsort(-gain, kind="stable"):  # the largest gain first, then the first pair
         loops = [xy[np.arange(i[k] + 1 + a[k], j[k] + 1)],
