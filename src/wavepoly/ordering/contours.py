@@ -176,8 +176,8 @@ def _split_grown(before: list[OrderedContour], after: list[OrderedContour],
     half of one and half of the other, which join as each other's tips into one ring
     pinched where the two come close. An outline that a wide ring joined (a hole a slit
     reaches, a limb closed on itself) is left whole."""
-    kept = {id(c) for c in before}
-    gone = [c for c in before if c.closed and id(c) not in {id(d) for d in after}]
+    kept, now = {id(c) for c in before}, {id(c) for c in after}
+    gone = [c for c in before if c.closed and id(c) not in now]
     out: list[OrderedContour] = []
     for c in after:
         grown_by = [g for g in gone if np.isin(g.members[:1], c.members).all()]

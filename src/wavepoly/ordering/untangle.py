@@ -170,20 +170,19 @@ def pass_turns(xy: FloatArray, i: IntArray, j: IntArray, after_i: IntArray | Non
     from j); each turn taken between the arms of `ARM_NODES` nodes on either side (a short
     edge's own direction is noise). ``after_i``, ``after_j``: the nodes the passes run on
     from, where nodes between are left out (default i + 1 and j + 1)."""
-    n, k = len(xy), ARM_NODES
     after_i = i + 1 if after_i is None else after_i
     after_j = j + 1 if after_j is None else after_j
+    old = turn_across(xy, i, after_i) + turn_across(xy, j, after_j)
+    return old, turn_across(xy, i, after_j), turn_across(xy, j, after_i)
 
-    def arm_in(a: IntArray) -> FloatArray:  # direction arriving at node a
-        return xy[a % n] - xy[(a - k) % n]
 
-    def arm_out(a: IntArray) -> FloatArray:  # direction leaving node a
-        return xy[(a + k) % n] - xy[a % n]
-
-    old = (angle_between(arm_in(i), arm_out(after_i))
-           + angle_between(arm_in(j), arm_out(after_j)))
-    return (old, angle_between(arm_in(i), arm_out(after_j)),
-            angle_between(arm_in(j), arm_out(after_i)))
+def turn_across(xy: FloatArray, start: IntArray, end: IntArray) -> FloatArray:
+    """How much closed chain ``xy`` turns (degrees) from arriving at node ``start`` to
+    leaving node ``end``, between arms of `ARM_NODES` nodes."""
+    n = len(xy)
+    arriving = xy[start % n] - xy[(start - ARM_NODES) % n]
+    leaving = xy[(end + ARM_NODES) % n] - xy[end % n]
+    return angle_between(arriving, leaving)
 
 
 def angle_between(a: FloatArray, b: FloatArray) -> FloatArray:

@@ -39,7 +39,14 @@ import shapely
 from ..geometry import polyline_length
 from ..types import FloatArray, IntArray
 from .marching import turning
-from .untangle import ARM_NODES, MIN_LOOP_NODES, angle_between, pass_turns, split_repeatedly
+from .untangle import (
+    ARM_NODES,
+    MIN_LOOP_NODES,
+    angle_between,
+    pass_turns,
+    split_repeatedly,
+    turn_across,
+)
 
 #: Two passes of a ring at most this many radii apart may be a waist: the march crosses
 #: between two outlines that come within about a radius of each other, and where they run
@@ -172,19 +179,10 @@ def _waists(xy: FloatArray, i: IntArray, j: IntArray, a: int, b: int, radius: fl
     keep = (gain > TURN_GAIN) & _smooth_arms(turn, i, j, after_i, after_j)
     for skipped, start, end in ((a, i, after_i), (b, j, after_j)):
         if skipped:  # the nodes left out bridge a hairpin, not a neck's wall
-            keep &= _pass_turn(xy, start, end) > BRIDGE_TURN
+            keep &= turn_across(xy, start, end) > BRIDGE_TURN
     k = int(keep.sum())
     return (i[keep], j[keep], np.full(k, a), np.full(k, b), gain[keep], new_i[keep],
             new_j[keep])
-
-
-def _pass_turn(xy: FloatArray, start: IntArray, end: IntArray) -> FloatArray:
-    """How much closed chain ``xy`` turns (degrees) from arriving at node ``start`` to
-    leaving node ``end``, between arms of `ARM_NODES` nodes."""
-    n = len(xy)
-    arriving = xy[start % n] - xy[(start - ARM_NODES) % n]
-    leaving = xy[(end + ARM_NODES) % n] - xy[end % n]
-    return angle_between(arriving, leaving)
 
 
 def _near_edges(xy: FloatArray, gap: float) -> tuple[IntArray, IntArray]:
