@@ -41,6 +41,11 @@ GAP_TOLERANCES = 4.0
 #: it (47 units) and left the other side open (45); a whole section with a stray fragment
 #: has a few percent (the bunny's second layer: 6 %).
 BROKEN_SHARE = 0.5
+#: A closed contour narrower on average (twice its area over its perimeter) than this many
+#: tolerances counts as open there: an outline folded onto itself, walked out along one side
+#: of a band of points and back along the other (the turbine blade's top face cut by the
+#: plane: two such slivers along its walls, 0.56 and 0.65 tolerances), stands for no solid.
+FOLDED_SECTION = 1.0
 #: Longest run of broken layers held over from their neighbours: a plane nearly touching a
 #: face breaks a layer or two; a longer run is a gap in the scan, which a copy would hide.
 MAX_HELD_RUN = 2
@@ -208,12 +213,22 @@ def _solid(f: FitResult) -> bool:
 
 
 def _broken(f: FitResult) -> bool:
-    """Does the layer's section stand for no solid: open pieces at least `BROKEN_SHARE` x as
-    long as its closed contours (a few fragments closed by chance among them do not make it
-    one)?"""
-    opened = sum(polyline_length(c.vertices, False) for c in f.contours if not c.closed)
-    closed = sum(polyline_length(c.vertices, True) for c in f.contours if c.closed)
+    """Does the layer's section stand for no solid: open pieces (and closed ones folded onto
+    themselves, `FOLDED_SECTION`) at least `BROKEN_SHARE` x as long as its other closed
+    contours (a few fragments closed by chance among them do not make it one)?"""
+    solid = [c.closed and not _folded(c.vertices, f.tolerance) for c in f.contours]
+    opened = sum(polyline_length(c.vertices, c.closed) for c, s in zip(f.contours, solid)
+                 if not s)
+    closed = sum(polyline_length(c.vertices, True) for c, s in zip(f.contours, solid) if s)
     return opened > 0 and opened >= BROKEN_SHARE * closed
+
+
+def _folded(ring: FloatArray, tolerance: float) -> bool:
+    """Is the closed ``ring`` narrower on average than `FOLDED_SECTION` tolerances?"""
+    length = polyline_length(ring, True)
+    area = 0.5 * abs(np.dot(ring[:, 0], np.roll(ring[:, 1], -1))
+                     - np.dot(ring[:, 1], np.roll(ring[:, 0], -1)))
+    return 2 * area < FOLDED_SECTION * tolerance * length
 
 
 def _broken_runs(fits: list[FitResult]) -> list[tuple[int, int]]:

@@ -16,7 +16,7 @@ from scipy.spatial import cKDTree
 from ..geometry import nearest_segment, nearest_site, polyline_length
 from ..types import Chain, FloatArray, IntArray, OrderedContour
 from .gaps import close_gaps
-from .marching import CORNER_TURN, turning
+from .marching import CORNER_TURN, SIDE_CHAIN_REACH, turning
 from .mouths import join_through_mouths
 from .neighbourhoods import Nodes
 from .split_tips import rejoin_split_tips, thin_ring
@@ -95,7 +95,9 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
     A point belongs to the contour of its nearest node among those contours (within
     `MEMBER_REACH` radii; farther points, and the points of shorter chains that no contour is
     near, are outliers). The ``absorbed`` nodes of dropped side chains count as nodes of the
-    contour nearest them, as do, on a clean scan, the nodes of chains shorter than
+    contour nearest them where they lie beside it (`SIDE_CHAIN_REACH`: a speck's lone node
+    beside another speck's chain, too short to be a contour, is no part of a ring 8 radii
+    away), as do, on a clean scan, the nodes of chains shorter than
     ``min_points`` near a contour (`SHORT_CHAIN_REACH`). A member farther than the radius
     from its contour's chain (once the cut corners are restored) is an outlier too, unless
     the scan is ``clean`` (`clean_scan`). ``corner_gap``: how far off the chain a group of
@@ -112,10 +114,11 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
         short_ids = np.concatenate(short)
         gap, _ = chain_nodes.query(nodes.xy[short_ids])
         absorbed = np.concatenate([absorbed, short_ids[gap <= SHORT_CHAIN_REACH * radius]])
-    if len(absorbed):
-        _, host = chain_nodes.query(nodes.xy[absorbed])
-        node_ids, owner = np.concatenate([node_ids, absorbed]), np.concatenate([owner,
-                                                                                 owner[host]])
+    if len(absorbed):  # beside a contour, not beside a chain too short to be one
+        gap, host = chain_nodes.query(nodes.xy[absorbed])
+        near = gap <= SIDE_CHAIN_REACH * nodes.reach
+        node_ids = np.concatenate([node_ids, absorbed[near]])
+        owner = np.concatenate([owner, owner[host[near]]])
     dist, nearest = nearest_site(pts, nodes.xy[node_ids], MEMBER_REACH * radius)
     chain_of_point = np.where(np.isfinite(dist), owner[np.minimum(nearest, len(owner) - 1)], -1)
     order = np.argsort(chain_of_point, kind="stable")

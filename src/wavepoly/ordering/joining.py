@@ -55,6 +55,20 @@ CLOSING_SUPPORT = 2.0
 #: without a point, its ends at 0.99 and 0.91; the photographed text's strokes, closed
 #: across 7.7 R: 0.91 and 0.81).
 IN_LINE_COS = 0.9
+#: On a clean scan, a join between two chains wider than this many R runs along points
+#: (`ASIDE_SUPPORT`) or continues a chain at least `SPAN_PER_GAP` x as long as the gap: a
+#: sharp corner's two legs end by its tip, whose points lie between them, and a gap in the
+#: sampling of a curve is bridged from the curve's long chains; two specks a few tolerances
+#: apart (stars in a photograph at a coarse tolerance), whose ends face any way, are not.
+ASIDE_GAP = 1.5
+#: ... the points within this many radii of every spot of the join (halfway across a sharp
+#: corner's tip, whose walls the neighbourhoods span, they lie closer) ...
+ASIDE_SUPPORT = 0.75
+#: ... sampled this many support radii apart: an empty stretch of 2 tolerances between two
+#: specks has a sample within a quarter radius of its middle.
+ASIDE_STEP = 0.5
+#: ... or one of the chains spans this many times the gap (the diagonal of its nodes' box).
+SPAN_PER_GAP = 2.0
 
 
 def join_ends(nodes: Nodes, links: IntArray, support: Support | None = None) -> IntArray:
@@ -86,6 +100,7 @@ def _mutual_nearest_ends(nodes: Nodes, links: IntArray, free: IntArray, degree: 
     n = len(nodes.xy)
     comp = _components(links, n)
     size = np.bincount(comp)
+    span = _spans(nodes.xy, comp) if support is not None and support.aside > 0 else None
     outward = _outward(nodes.xy, links, free, degree)
     k = min(JOIN_CANDIDATES, len(free))
     dist, nbr = cKDTree(nodes.xy[free]).query(nodes.xy[free], k=k,
@@ -131,6 +146,12 @@ def _mutual_nearest_ends(nodes: Nodes, links: IntArray, free: IntArray, degree: 
                 wide &= closing & ~in_line
             wide = np.flatnonzero(wide)
             ok[wide] = support.along(nodes.xy[free[wide]], nodes.xy[free[cand[wide]]])
+            if support.aside > 0:  # two specks are no curve with a gap in it
+                short = (np.maximum(span[comp[free]], span[comp[free[cand]]])
+                         < SPAN_PER_GAP * dist[:, col])
+                aside = np.flatnonzero(ok & ~same & short & (dist[:, col] > ASIDE_GAP * reach))
+                ok[aside] = support.along(nodes.xy[free[aside]], nodes.xy[free[cand[aside]]],
+                                          support.aside, ASIDE_STEP * support.aside)
         first = ok & (best < 0)
         best_dist = np.where(first, dist[:, col], best_dist)
         best[first] = cand[first]
@@ -153,21 +174,30 @@ class Support:
     at a notch's tip the join runs between the walls, while a chain that ran out along one
     thin stroke and back along another (a thresholded photograph's text, strokes under a
     tolerance wide) was closed across 13.8 tolerances of empty space. Ends in line with
-    each other (`IN_LINE_COS`) close without: a gap in the sampling of a smooth outline."""
+    each other (`IN_LINE_COS`) close without: a gap in the sampling of a smooth outline.
+    ``aside``: on a clean scan, the radius within which points lie along a join wider than
+    `ASIDE_GAP` R between two chains, neither of them `SPAN_PER_GAP` x as long as the gap (0:
+    no such test)."""
 
     tree: cKDTree
     radius: float
     every_wide_join: bool = True
+    aside: float = 0.0
 
-    def along(self, a: FloatArray, b: FloatArray) -> np.ndarray:
-        """Whether points lie along each segment from ``a[i]`` to ``b[i]``."""
+    def along(self, a: FloatArray, b: FloatArray, radius: float | None = None,
+              step: float | None = None) -> np.ndarray:
+        """Whether points lie along each segment from ``a[i]`` to ``b[i]``: within ``radius``
+        (default: the support's) of every sample along it, ``step`` (default: ``radius``)
+        apart."""
         if not len(a):
             return np.zeros(0, dtype=bool)
-        steps = np.maximum(np.ceil(np.linalg.norm(b - a, axis=1) / self.radius), 1).astype(int)
+        radius = self.radius if radius is None else radius
+        step = radius if step is None else step
+        steps = np.maximum(np.ceil(np.linalg.norm(b - a, axis=1) / step), 1).astype(int)
         owner = np.repeat(np.arange(len(a)), steps + 1)
         t = np.concatenate([np.linspace(0.0, 1.0, k + 1) for k in steps])
         at = a[owner] + t[:, None] * (b - a)[owner]
-        near, _ = self.tree.query(at, distance_upper_bound=self.radius)
+        near, _ = self.tree.query(at, distance_upper_bound=radius)
         return np.bincount(owner, ~np.isfinite(near), len(a)) == 0
 
 
@@ -184,6 +214,15 @@ def _outward(xy: FloatArray, links: IntArray, free: IntArray, degree: IntArray) 
     norm = np.linalg.norm(vec, axis=1, keepdims=True)
     out[ends] = vec / np.where(norm > 0, norm, 1.0)
     return out
+
+
+def _spans(xy: FloatArray, comp: IntArray) -> FloatArray:
+    """The diagonal of the box around each component's nodes."""
+    lo = np.full((comp.max(initial=-1) + 1, 2), np.inf)
+    hi = -lo
+    np.minimum.at(lo, comp, xy)
+    np.maximum.at(hi, comp, xy)
+    return np.linalg.norm(hi - lo, axis=1)
 
 
 def _linked(links: IntArray, a: IntArray, b: IntArray, n: int) -> np.ndarray:
