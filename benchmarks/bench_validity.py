@@ -20,6 +20,7 @@ from .common import ROOT, SHARED, table
 from .holes import hole_sweep, keyhole_sweep
 from .near_rings import near_rings_sweep
 from .silhouettes import DRAWS_NEAR, MIN_RING_EXTENT, drawn_rings
+from .specks import specks_sweep
 from .unseen import unseen_sweep
 
 #: A tooth's edges are shorter than this many tolerances.
@@ -178,7 +179,8 @@ def run() -> str:
                      "teeth", "free space", "outliers", "vertices", "vs covering min-#",
                      "seconds"], rows)
             + "\n\n" + glyph_sweep() + "\n\n" + silhouette_sweep() + "\n\n" + blob_sweep()
-            + "\n\n" + near_rings_sweep(truth) + "\n\n" + hole_sweep(truth)
+            + "\n\n" + near_rings_sweep(truth) + "\n\n" + specks_sweep(truth)
+            + "\n\n" + hole_sweep(truth)
             + "\n\n" + keyhole_sweep(truth)
             + "\n\n" + unseen_sweep(truth, _one_per_ring) + "\n\n" + coarse_sweep(truth)
             + "\n\n" + laser_sweep())

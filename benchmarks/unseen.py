@@ -40,8 +40,11 @@ SHAPE_HAUSDORFF = 1.5
 #: each by the side that is its subject (True: the dark side): the coins (24 coins, an
 #: interior hole or two, a strip of background along the border), the cameraman's dark parts
 #: (a coat, a camera, a tripod of legs one to three pixels thin), and two photographs of
-#: printed text (letters' strokes a few pixels thick, thinner than the coarser tolerance).
-PHOTOS = {"coins": False, "camera": True, "text": True, "page": True}
+#: printed text (letters' strokes a few pixels thick, thinner than the coarser tolerance),
+#: and the Hubble deep field's bright galaxies and stars (59 specks and blobs 1-10 tolerances
+#: across at the finer tolerance, most under 2 at the coarser one, a few tolerances apart).
+PHOTOS = {"coins": False, "camera": True, "text": True, "page": True,
+          "hubble_deep_field": False}
 SPECK_PIXELS = 64
 #: Their samplings: (diagonal / ε, noise in ε), or None: the tracer's own points (one where
 #: the outline crosses each pixel edge, on a staircase), as a user who traces a mask has them.
@@ -108,9 +111,11 @@ def _photo_row(name: str, div: float, noise: float | None, truth) -> list[object
     """One photograph (`PHOTOS`) thresholded, traced, sampled (``noise`` None: the traced
     points themselves) and fitted at ε = its diagonal / ``div``: its rings, those drawn alone,
     what the fit gives, and the distance to the truth."""
-    from skimage import data, filters, morphology
+    from skimage import color, data, filters, morphology
 
     image = getattr(data, name)()
+    if image.ndim == 3:
+        image = color.rgb2gray(image)
     dark = image < filters.threshold_otsu(image)
     mask = morphology.remove_small_objects(dark if PHOTOS[name] else ~dark,
                                            max_size=SPECK_PIXELS)

@@ -141,3 +141,20 @@ def test_an_end_of_the_stack_seen_full_of_holes_stands_on_the_solid():
 
         fits = held_over(stack, np.arange(5.0), np.arange(1.0, 6), errors_of, tolerance=0.1)
         assert all((f.contours[0] is ring.contours[0]) == kept for f in fits[:3])
+
+
+def test_a_section_of_slivers_walked_along_its_walls_stands_for_no_solid():
+    """A plane along a face closes the band of points along a wall into a sliver narrower
+    than the tolerance (walked out along one side and back along the other): it counts as
+    open, and the layer as broken (`bands.FOLDED_SECTION`), while a thin wall of a part two
+    tolerances wide is a solid."""
+    from wavepoly.bands import _broken
+    from wavepoly.types import Contour, FitResult
+
+    def layer(width: float) -> FitResult:
+        wall = np.array([[0.0, 0.0], [10.0, 0.0], [10.0, width], [0.0, width]])
+        piece = Contour(np.array([[0.0, 5.0], [4.0, 5.0]]), False)
+        return FitResult([Contour(wall, True), piece], 1.0, 0.0, 0.0,
+                         np.empty(0, dtype=np.intp), 100)
+
+    assert _broken(layer(0.5)) and not _broken(layer(2.0))

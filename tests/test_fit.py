@@ -306,10 +306,10 @@ def test_points_far_from_the_origin_fit_as_near_it(seed, offset):
 
 
 def test_outliers_that_are_specks_say_so():
-    """A traced mask's holes of a pixel or two, at a tolerance of two pixels, are outliers:
-    each lies within the tolerance of its own points, too small for a polygon to show. The
-    notes say how many of the outliers are such specks, and where the first is; a clean ring
-    alone has no such note."""
+    """A traced mask's holes of a pixel, at a tolerance of two pixels, are outliers: four
+    points each, too few for a polygon of their own (five or more make one, their hull:
+    `tests/test_islands.py`). The notes say how many of the outliers are such specks, and
+    where the first is; a clean ring alone has no such note."""
     import wavepoly
 
     t = np.linspace(0, 2 * np.pi, 600, endpoint=False)

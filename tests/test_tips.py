@@ -66,6 +66,16 @@ def test_a_loop_beyond_a_spike_is_a_contour_of_its_own():
     assert [c.closed for c in out] == [True, True]
 
 
+def test_a_small_ring_across_empty_space_beyond_a_spike_is_a_contour_of_its_own():
+    # a ring 2 radii across, 2.5 radii beyond the tip with nothing between: no tip of the
+    # spike, though small enough to be one, within reach of its turn and covered by it
+    t = np.linspace(0, 2 * np.pi, 24, endpoint=False)
+    loop = np.column_stack([TIP + 3.5 * RADIUS + RADIUS * np.cos(t), RADIUS * np.sin(t)])
+    out, _ = _tips(loop, closed=True)
+    assert [c.closed for c in out] == [True, True]
+    assert out[0].points[:, 0].max() == TIP
+
+
 def test_a_silhouette_spike_whose_tip_was_a_stroke_comes_out_closed():
     """Silhouette 58 traced from a 300-pixel bitmap, with noise: a spike 1.5 tolerances wide
     whose tip the march left as a stroke 7 radii long, beyond the turn of an outline closed

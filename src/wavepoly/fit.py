@@ -345,8 +345,9 @@ def _speck_notes(points: FloatArray, outliers: IntArray, ordering: Ordering,
                  tolerance: float) -> list[str]:
     """On a clean scan, a note on the outliers that are specks: groups (points within the
     radius of one another) under `ISLAND_EXTENT` tolerances across, such as a traced mask's
-    holes of a pixel or two, which lie within the tolerance of their own points and are no
-    shape a polygon could show."""
+    holes of a pixel, with too few points for a polygon of their own (a speck of
+    `ISLAND_POINTS` or more, clear of other points, is one: `speck_contours`).
+    """
     if not ordering.clean or not len(outliers):
         return []
     xy = points[outliers]
@@ -359,7 +360,7 @@ def _speck_notes(points: FloatArray, outliers: IntArray, ordering: Ordering,
     first = (speck.min(axis=0) + speck.max(axis=0)) / 2
     return [f"{in_specks} of the {len(outliers)} outlier(s) lie in {int(small.sum())} "
             f"speck(s) under {ISLAND_EXTENT:g} x the tolerance across (the first by "
-            f"({first[0]:.4g}, {first[1]:.4g})): too small for a polygon to show"]
+            f"({first[0]:.4g}, {first[1]:.4g})): too few points for a polygon of their own"]
 
 
 def _ordered_ring(oc: OrderedContour) -> Contour:

@@ -97,3 +97,34 @@ def sample_rings(rings: list[FloatArray], *, spacing: float, noise: float = 0.0,
         out.append(pts + rng.normal(0.0, noise, pts.shape) if noise > 0 else pts)
     pts = np.concatenate(out)
     return pts[rng.permutation(len(pts))]
+
+
+def scattered_ellipses(count: int, *, across: tuple[float, float], clearance: float,
+                       box: float, seed: int = 0) -> list[FloatArray]:
+    """Outlines of ``count`` ellipses ``across`` (smallest, largest) wide, their short axes
+    0.6-1 x as long, turned at random and placed at random in a ``box``-wide square, each at
+    least ``clearance`` from every other: small shapes a few tolerances apart, as stars in a
+    photograph or rivets in a slice.
+
+    >>> rings = scattered_ellipses(5, across=(1.0, 3.0), clearance=2.0, box=30.0)
+    >>> len(rings), rings[0].shape
+    (5, (64, 2))
+    """
+    rng = np.random.default_rng(seed)
+    t = np.linspace(0.0, 2 * np.pi, 64, endpoint=False)
+    placed: list[tuple[FloatArray, float]] = []
+    rings = []
+    for _ in range(1000 * count):  # rejection sampling: a crowded box gives up
+        if len(rings) == count:
+            break
+        size, centre = rng.uniform(*across), rng.uniform(0.0, box, 2)
+        if any(np.hypot(*(centre - c)) < (size + s) / 2 + clearance for c, s in placed):
+            continue
+        turn, squash = rng.uniform(0.0, np.pi), rng.uniform(0.6, 1.0)
+        ellipse = 0.5 * size * np.column_stack([np.cos(t), squash * np.sin(t)])
+        rotation = np.array([[np.cos(turn), -np.sin(turn)], [np.sin(turn), np.cos(turn)]])
+        placed.append((centre, size))
+        rings.append(centre + ellipse @ rotation.T)
+    if len(rings) < count:
+        raise ValueError(f"only {len(rings)} of {count} ellipses fit in the box")
+    return rings

@@ -76,7 +76,7 @@ from ..geometry import polyline_distance
 from ..types import FloatArray, Ordering
 from ..validate import check_tolerance, validate_points
 from .contours import CORNER_GAP, CORNER_NOISE, clean_scan, contours_of
-from .islands import island_contours
+from .islands import island_contours, speck_contours
 from .joining import ASIDE_SUPPORT, CLOSING_SUPPORT, Support
 from .marching import (
     chains_of,
@@ -434,7 +434,7 @@ def _read(pts: FloatArray, radius: float, given: float, seed: int, min_points: i
                                      min_points, clean, corner_gap, stems=not again)
     if clean:  # on a noisy scan such groups are clutter
         islands, outliers = island_contours(outliers, pts, radius, given)
-        contours += islands
+        contours, outliers = speck_contours(contours + islands, outliers, pts, radius, given)
     elif not (again or middle):  # below the scatter, what lies off the middle is noise
         reread = partial(_read, radius=radius, given=given, seed=seed, min_points=min_points,
                          notes=(), spacing=0.0, tolerance=None, sparse=True, again=True)

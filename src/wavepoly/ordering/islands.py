@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 import shapely
+from scipy.spatial import cKDTree
 
 from ..types import FloatArray, IntArray, OrderedContour
 from .neighbourhoods import point_clusters
@@ -27,6 +28,10 @@ from .neighbourhoods import point_clusters
 ISLAND_EXTENT = 1.5
 #: ... with at least this many points: fewer make no curve worth a polygon.
 ISLAND_POINTS = 5
+#: A group that nothing drew, clear of other points, is a polygon up to this many tolerances
+#: across (the issue's "a loop or a stroke of at least 4 tolerances is a contour"; beyond,
+#: the march makes a chain of it).
+SPECK_EXTENT = 4.0
 #: A group surrounds its centre, and is a loop, when no gap between the directions from the
 #: centre to its points is wider than this (degrees): 7 points round the hole of vase.txt
 #: leave one of 93, the sliver of silhouette 0:53 one of 126; an open stroke leaves two of
@@ -53,6 +58,67 @@ def island_contours(outliers: IntArray, pts: FloatArray, radius: float, toleranc
     if not found:
         return [], outliers
     return found, np.setdiff1d(outliers, np.concatenate(used))
+
+
+def speck_contours(contours: list[OrderedContour], outliers: IntArray, pts: FloatArray,
+                   radius: float, tolerance: float
+                   ) -> tuple[list[OrderedContour], IntArray]:
+    """Each speck a closed contour of its own: a group of at least `ISLAND_POINTS` points,
+    each within ``radius`` of another and clear of every other point by ``radius``, that
+    spans less than `ISLAND_EXTENT` ``tolerance`` s (a star in a photograph at a coarse
+    tolerance, a traced mask's hole of a pixel or two). The march draws such a group as a
+    scrap of a line, a sliver, or nothing; every point of it lies within a tolerance of its
+    convex hull, which becomes its ring. Contours whose members all lie in one speck, and
+    its outliers, give way to it; a contour that holds a speck's points and others is left.
+    A group up to `SPECK_EXTENT` tolerances across that nothing drew (all outliers: an arc
+    sampled on one side only, no loop for `island_contours`) becomes its hull too, where
+    every point lies within a tolerance of the hull's outline.
+
+    Returns the contours and the outliers left.
+    """
+    small = [k for k, c in enumerate(contours) if len(c.members)
+             and np.linalg.norm(np.ptp(pts[c.members], axis=0)) < SPECK_EXTENT * tolerance]
+    cand = np.unique(np.concatenate([outliers, *[contours[k].members for k in small]]))
+    if len(cand) < ISLAND_POINTS:
+        return contours, outliers
+    label = point_clusters(pts[cand], radius)  # groups among the outliers and small contours
+    size = np.bincount(label)
+    within = cKDTree(pts).query_ball_point(pts[cand], radius, return_length=True)
+    own = cKDTree(pts[cand]).query_ball_point(pts[cand], radius, return_length=True)
+    clear = np.bincount(label, weights=within > own, minlength=len(size)) == 0
+    extent = group_extents(pts[cand], label)
+    undrawn = np.bincount(label[np.searchsorted(cand, outliers)], minlength=len(size)) == size
+    speck = clear & (size >= ISLAND_POINTS) & (
+        (extent < ISLAND_EXTENT * tolerance) | (undrawn & (extent < SPECK_EXTENT * tolerance)))
+    if not speck.any():
+        return contours, outliers
+    owner = {k: np.unique(label[np.searchsorted(cand, contours[k].members)]) for k in small}
+    for groups in owner.values():  # a contour reaching beyond a group leaves it be
+        if len(groups) > 1:
+            speck[groups] = False
+    found = {}
+    for g in np.flatnonzero(speck):
+        members = cand[label == g]
+        ring = _hull_ring(pts[members], tolerance)
+        if ring is not None:
+            found[g] = OrderedContour(ring, True, members)
+    if not found:
+        return contours, outliers
+    gone = {k for k, groups in owner.items() if len(groups) == 1 and groups[0] in found}
+    kept = [c for k, c in enumerate(contours) if k not in gone]
+    taken = np.concatenate([c.members for c in found.values()])
+    return kept + list(found.values()), np.setdiff1d(outliers, taken)
+
+
+def _hull_ring(group: FloatArray, tolerance: float) -> FloatArray | None:
+    """The convex hull of ``group`` as a counter-clockwise ring, if it has an area and every
+    point lies within ``tolerance`` of its outline; else None."""
+    hull = shapely.MultiPoint(group).convex_hull
+    if hull.geom_type != "Polygon" or hull.area <= 0:
+        return None
+    if shapely.distance(shapely.points(group), hull.exterior).max() > tolerance:
+        return None
+    return np.asarray(shapely.orient_polygons(hull).exterior.coords)[:-1]
 
 
 def group_extents(xy: FloatArray, label: IntArray) -> FloatArray:

@@ -27,6 +27,7 @@ from scipy.spatial import cKDTree
 from ..geometry import polyline_distance, polyline_length
 from ..types import FloatArray, OrderedContour
 from .faces import CHORD_TIP, COVER_REACH, outline_of_faces
+from .joining import Support
 from .passes import out_and_back, smoothed
 from .piece_graph import (
     Edge,
@@ -63,6 +64,11 @@ BUBBLE_WIDTH = 1.5
 #: each, or a slit's walls followed apart (8-10 radii on the silhouettes). Longer ones are a
 #: chord beside a wall, whose region's boundary `outer_edges` finds.
 BUBBLE_LENGTH = 12.0
+#: A piece's end meets another piece only where points lie along the way, each spot of it
+#: within this many radii of one (as `tips.TIP_SUPPORT`) ...
+JUNCTION_SUPPORT = 0.75
+#: ... the spots this many radii apart.
+JUNCTION_STEP = 0.375
 
 
 def close_outlines(contours: list[OrderedContour], points: FloatArray, radius: float
@@ -127,7 +133,8 @@ def _closed_components(contours: list[OrderedContour], pick: list[int], points: 
     lines = [np.vstack([contours[k].points, contours[k].points[:1]]) if contours[k].closed
              else contours[k].points for k in pick]
     closed_lines = [contours[k].closed for k in pick]
-    met = junctions(lines, closed_lines, radius)
+    met = _along_points(junctions(lines, closed_lines, radius), lines, closed_lines, points,
+                        radius)
     edges, node_xy = piece_graph(lines, closed_lines, radius, met=met)
     closed, used = [], set()
     for comp in components(edges, len(node_xy)):
@@ -150,6 +157,24 @@ def _closed_components(contours: list[OrderedContour], pick: list[int], points: 
             used.update(taken)
             closed += share_members(rings, members, points, closed=True)
     return closed, used
+
+
+def _along_points(met: list[Junction], lines: list[FloatArray], closed: list[bool],
+                  points: FloatArray, radius: float) -> list[Junction]:
+    """The junctions ``met``, but those where a piece's end meets a closed ring across empty
+    space (`JUNCTION_SUPPORT`): a small ring's scrap of an arc, open by a tolerance, lies a
+    few radii from the next ring with no point between, while the march stops short of a
+    slit or an outline it meets with the stroke's points running on. (An open piece met may
+    lie across a spike's mouth, where no point is.)"""
+    check = [k for k, (_, _, j, _, _) in enumerate(met) if closed[j]]
+    if not check:
+        return met
+    support = Support(cKDTree(points), JUNCTION_SUPPORT * radius)
+    ends = np.array([lines[met[k][0]][met[k][1]] for k in check])
+    at = np.array([met[k][4] for k in check])
+    bare = {k for k, ok in zip(check, support.along(ends, at, step=JUNCTION_STEP * radius))
+            if not ok}
+    return [j for k, j in enumerate(met) if k not in bare]
 
 
 def _slit_to_a_dead_end(lines: list[FloatArray], closed: list[bool], met: list[Junction],
