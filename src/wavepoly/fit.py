@@ -21,8 +21,8 @@ from .geometry import curve_line, nest_contours, orient_by_depth, polyline_dista
 from .junctions import meet_at_junctions
 from .levels import decompose_contour
 from .ordering import SPACINGS_PER_RADIUS, order_points
-from .ordering.islands import ISLAND_EXTENT, group_extents
-from .ordering.neighbourhoods import point_clusters
+from .ordering.islands import ISLAND_EXTENT
+from .ordering.neighbourhoods import group_extents, point_clusters
 from .ordering.noise import BELL_MARGIN, NOISE_MARGIN, NOISE_NOTE, below_the_bell
 from .pieces import join_at_ends, noded_contours, split_crossings
 from .reconstruction import reconstruct_contour

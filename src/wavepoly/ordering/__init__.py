@@ -77,7 +77,7 @@ from ..types import FloatArray, Ordering
 from ..validate import check_tolerance, validate_points
 from .contours import CORNER_GAP, CORNER_NOISE, clean_scan, contours_of
 from .islands import island_contours, speck_contours
-from .joining import ASIDE_SUPPORT, CLOSING_SUPPORT, Support
+from .joining import CLOSING_SUPPORT, Support
 from .marching import (
     chains_of,
     drop_crossing_loops,
@@ -415,7 +415,7 @@ def _read(pts: FloatArray, radius: float, given: float, seed: int, min_points: i
                   nodes.reach, nodes.noise)
     links = link_nodes(nodes, radius, Support(atoms.tree, radius, every_wide_join=True) if noisy
                        else Support(atoms.tree, CLOSING_SUPPORT * radius, every_wide_join=False,
-                                    aside=ASIDE_SUPPORT * radius))
+                                    aside=radius))
     chains, absorbed = drop_side_chains(nodes, chains_of(links, len(nodes.xy)))
     chains, absorbed = drop_crossing_loops(nodes, chains, absorbed)
     wide = wide_nodes(nodes, chains, radius)

@@ -20,7 +20,7 @@ import shapely
 from scipy.spatial import cKDTree
 
 from ..types import FloatArray, IntArray, OrderedContour
-from .neighbourhoods import point_clusters
+from .neighbourhoods import group_extents, point_clusters
 
 #: Groups spanning at least this many tolerances are contours: a sliver of a hole that a
 #: silhouette's slit leaves spans 1.9 (silhouette row 0, seed 53); a smaller group lies within
@@ -119,15 +119,6 @@ def _hull_ring(group: FloatArray, tolerance: float) -> FloatArray | None:
     if shapely.distance(shapely.points(group), hull.exterior).max() > tolerance:
         return None
     return np.asarray(shapely.orient_polygons(hull).exterior.coords)[:-1]
-
-
-def group_extents(xy: FloatArray, label: IntArray) -> FloatArray:
-    """The diagonal of each labelled group's bounding box (labels 0..k-1)."""
-    lo = np.full((label.max(initial=-1) + 1, 2), np.inf)
-    hi = -lo
-    np.minimum.at(lo, label, xy)
-    np.maximum.at(hi, label, xy)
-    return np.linalg.norm(hi - lo, axis=1)
 
 
 def _island(group: FloatArray, members: IntArray) -> OrderedContour | None:

@@ -18,7 +18,7 @@ from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from ..types import FloatArray, IntArray
-from .neighbourhoods import Nodes
+from .neighbourhoods import Nodes, group_extents
 
 #: Rounds of joining: each joins mutual nearest free ends; a gap bridged by lone nodes needs
 #: one round per node, and no case seen needs more than a few.
@@ -55,19 +55,18 @@ CLOSING_SUPPORT = 2.0
 #: without a point, its ends at 0.99 and 0.91; the photographed text's strokes, closed
 #: across 7.7 R: 0.91 and 0.81).
 IN_LINE_COS = 0.9
-#: On a clean scan, a join between two chains wider than this many R runs along points
-#: (`ASIDE_SUPPORT`) or continues a chain at least `SPAN_PER_GAP` x as long as the gap: a
-#: sharp corner's two legs end by its tip, whose points lie between them, and a gap in the
-#: sampling of a curve is bridged from the curve's long chains; two specks a few tolerances
-#: apart (stars in a photograph at a coarse tolerance), whose ends face any way, are not.
+#: A way between two places runs along points where every spot of it, `ALONG_STEP` radii
+#: apart, lies within this many radii of a point: two specks 2 tolerances apart leave a spot
+#: a quarter radius from the middle of the empty stretch, a radius from the points, while a
+#: sharp corner's tip and a notch's merged walls hold points nearer (`runs_along_points`).
+ALONG_REACH = 0.75
+ALONG_STEP = 0.375
+#: On a clean scan, a join between two chains wider than this many R runs along points, or
+#: continues a chain at least `SPAN_PER_GAP` x as long as the gap: a sharp corner's two legs
+#: end by its tip, and a gap in the sampling of a curve is bridged from the curve's long
+#: chains; two specks a few tolerances apart (stars in a photograph at a coarse tolerance),
+#: whose ends face any way, are not.
 ASIDE_GAP = 1.5
-#: ... the points within this many radii of every spot of the join (halfway across a sharp
-#: corner's tip, whose walls the neighbourhoods span, they lie closer) ...
-ASIDE_SUPPORT = 0.75
-#: ... sampled this many support radii apart: an empty stretch of 2 tolerances between two
-#: specks has a sample within a quarter radius of its middle.
-ASIDE_STEP = 0.5
-#: ... or one of the chains spans this many times the gap (the diagonal of its nodes' box).
 SPAN_PER_GAP = 2.0
 
 
@@ -100,7 +99,7 @@ def _mutual_nearest_ends(nodes: Nodes, links: IntArray, free: IntArray, degree: 
     n = len(nodes.xy)
     comp = _components(links, n)
     size = np.bincount(comp)
-    span = _spans(nodes.xy, comp) if support is not None and support.aside > 0 else None
+    span = group_extents(nodes.xy, comp) if support is not None and support.aside > 0 else None
     outward = _outward(nodes.xy, links, free, degree)
     k = min(JOIN_CANDIDATES, len(free))
     dist, nbr = cKDTree(nodes.xy[free]).query(nodes.xy[free], k=k,
@@ -150,8 +149,8 @@ def _mutual_nearest_ends(nodes: Nodes, links: IntArray, free: IntArray, degree: 
                 short = (np.maximum(span[comp[free]], span[comp[free[cand]]])
                          < SPAN_PER_GAP * dist[:, col])
                 aside = np.flatnonzero(ok & ~same & short & (dist[:, col] > ASIDE_GAP * reach))
-                ok[aside] = support.along(nodes.xy[free[aside]], nodes.xy[free[cand[aside]]],
-                                          support.aside, ASIDE_STEP * support.aside)
+                ok[aside] = runs_along_points(support.tree, nodes.xy[free[aside]],
+                                              nodes.xy[free[cand[aside]]], support.aside)
         first = ok & (best < 0)
         best_dist = np.where(first, dist[:, col], best_dist)
         best[first] = cand[first]
@@ -175,30 +174,40 @@ class Support:
     thin stroke and back along another (a thresholded photograph's text, strokes under a
     tolerance wide) was closed across 13.8 tolerances of empty space. Ends in line with
     each other (`IN_LINE_COS`) close without: a gap in the sampling of a smooth outline.
-    ``aside``: on a clean scan, the radius within which points lie along a join wider than
-    `ASIDE_GAP` R between two chains, neither of them `SPAN_PER_GAP` x as long as the gap (0:
-    no such test)."""
+    ``aside``: on a clean scan, the scan's radius, by which a join wider than `ASIDE_GAP` R
+    between two chains, neither of them `SPAN_PER_GAP` x as long as the gap, runs along
+    points (`runs_along_points`; 0: no such test)."""
 
     tree: cKDTree
     radius: float
     every_wide_join: bool = True
     aside: float = 0.0
 
-    def along(self, a: FloatArray, b: FloatArray, radius: float | None = None,
-              step: float | None = None) -> np.ndarray:
-        """Whether points lie along each segment from ``a[i]`` to ``b[i]``: within ``radius``
-        (default: the support's) of every sample along it, ``step`` (default: ``radius``)
-        apart."""
-        if not len(a):
-            return np.zeros(0, dtype=bool)
-        radius = self.radius if radius is None else radius
-        step = radius if step is None else step
-        steps = np.maximum(np.ceil(np.linalg.norm(b - a, axis=1) / step), 1).astype(int)
-        owner = np.repeat(np.arange(len(a)), steps + 1)
-        t = np.concatenate([np.linspace(0.0, 1.0, k + 1) for k in steps])
-        at = a[owner] + t[:, None] * (b - a)[owner]
-        near, _ = self.tree.query(at, distance_upper_bound=radius)
-        return np.bincount(owner, ~np.isfinite(near), len(a)) == 0
+    def along(self, a: FloatArray, b: FloatArray) -> np.ndarray:
+        """Whether points lie along each segment from ``a[i]`` to ``b[i]``: within the
+        support's radius of every sample along it, a radius apart."""
+        return _along(self.tree, a, b, self.radius, self.radius)
+
+
+def runs_along_points(tree: cKDTree, a: FloatArray, b: FloatArray, radius: float
+                      ) -> np.ndarray:
+    """Whether the way from each ``a[i]`` to ``b[i]`` runs along the points of ``tree``
+    (`ALONG_REACH`, `ALONG_STEP`; ``radius``: the scan's), not across empty space."""
+    return _along(tree, a, b, ALONG_REACH * radius, ALONG_STEP * radius)
+
+
+def _along(tree: cKDTree, a: FloatArray, b: FloatArray, reach: float, step: float
+           ) -> np.ndarray:
+    """Whether a point of ``tree`` lies within ``reach`` of every sample, ``step`` apart,
+    along each segment from ``a[i]`` to ``b[i]``."""
+    if not len(a):
+        return np.zeros(0, dtype=bool)
+    steps = np.maximum(np.ceil(np.linalg.norm(b - a, axis=1) / step), 1).astype(int)
+    owner = np.repeat(np.arange(len(a)), steps + 1)
+    t = np.concatenate([np.linspace(0.0, 1.0, k + 1) for k in steps])
+    at = a[owner] + t[:, None] * (b - a)[owner]
+    near, _ = tree.query(at, distance_upper_bound=reach)
+    return np.bincount(owner, ~np.isfinite(near), len(a)) == 0
 
 
 def _outward(xy: FloatArray, links: IntArray, free: IntArray, degree: IntArray) -> FloatArray:
@@ -214,15 +223,6 @@ def _outward(xy: FloatArray, links: IntArray, free: IntArray, degree: IntArray) 
     norm = np.linalg.norm(vec, axis=1, keepdims=True)
     out[ends] = vec / np.where(norm > 0, norm, 1.0)
     return out
-
-
-def _spans(xy: FloatArray, comp: IntArray) -> FloatArray:
-    """The diagonal of the box around each component's nodes."""
-    lo = np.full((comp.max(initial=-1) + 1, 2), np.inf)
-    hi = -lo
-    np.minimum.at(lo, comp, xy)
-    np.maximum.at(hi, comp, xy)
-    return np.linalg.norm(hi - lo, axis=1)
 
 
 def _linked(links: IntArray, a: IntArray, b: IntArray, n: int) -> np.ndarray:

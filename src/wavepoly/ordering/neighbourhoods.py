@@ -249,3 +249,12 @@ def point_clusters(xy: FloatArray, reach: float) -> IntArray:
     pairs = cKDTree(xy).query_pairs(reach, output_type="ndarray")
     graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
     return connected_components(graph, directed=False)[1]
+
+
+def group_extents(xy: FloatArray, label: IntArray) -> FloatArray:
+    """The diagonal of each labelled group's bounding box (labels 0..k-1)."""
+    lo = np.full((label.max(initial=-1) + 1, 2), np.inf)
+    hi = -lo
+    np.minimum.at(lo, label, xy)
+    np.maximum.at(hi, label, xy)
+    return np.linalg.norm(hi - lo, axis=1)

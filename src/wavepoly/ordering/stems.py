@@ -27,7 +27,7 @@ from scipy.spatial import cKDTree
 from ..geometry import polyline_distance, polyline_length
 from ..types import FloatArray, OrderedContour
 from .faces import CHORD_TIP, COVER_REACH, outline_of_faces
-from .joining import Support
+from .joining import runs_along_points
 from .passes import out_and_back, smoothed
 from .piece_graph import (
     Edge,
@@ -64,11 +64,6 @@ BUBBLE_WIDTH = 1.5
 #: each, or a slit's walls followed apart (8-10 radii on the silhouettes). Longer ones are a
 #: chord beside a wall, whose region's boundary `outer_edges` finds.
 BUBBLE_LENGTH = 12.0
-#: A piece's end meets another piece only where points lie along the way, each spot of it
-#: within this many radii of one (as `tips.TIP_SUPPORT`) ...
-JUNCTION_SUPPORT = 0.75
-#: ... the spots this many radii apart.
-JUNCTION_STEP = 0.375
 
 
 def close_outlines(contours: list[OrderedContour], points: FloatArray, radius: float
@@ -162,17 +157,16 @@ def _closed_components(contours: list[OrderedContour], pick: list[int], points: 
 def _along_points(met: list[Junction], lines: list[FloatArray], closed: list[bool],
                   points: FloatArray, radius: float) -> list[Junction]:
     """The junctions ``met``, but those where a piece's end meets a closed ring across empty
-    space (`JUNCTION_SUPPORT`): a small ring's scrap of an arc, open by a tolerance, lies a
+    space (`joining.runs_along_points`): a small ring's scrap of an arc, open by a tolerance, lies a
     few radii from the next ring with no point between, while the march stops short of a
     slit or an outline it meets with the stroke's points running on. (An open piece met may
     lie across a spike's mouth, where no point is.)"""
     check = [k for k, (_, _, j, _, _) in enumerate(met) if closed[j]]
     if not check:
         return met
-    support = Support(cKDTree(points), JUNCTION_SUPPORT * radius)
     ends = np.array([lines[met[k][0]][met[k][1]] for k in check])
     at = np.array([met[k][4] for k in check])
-    bare = {k for k, ok in zip(check, support.along(ends, at, step=JUNCTION_STEP * radius))
+    bare = {k for k, ok in zip(check, runs_along_points(cKDTree(points), ends, at, radius))
             if not ok}
     return [j for k, j in enumerate(met) if k not in bare]
 

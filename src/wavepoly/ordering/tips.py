@@ -23,7 +23,7 @@ from scipy.spatial import cKDTree
 
 from ..geometry import curve_line, nearest_segment
 from ..types import FloatArray, IntArray, OrderedContour
-from .joining import Support
+from .joining import runs_along_points
 from .marching import turning
 from .neighbourhoods import point_clusters
 
@@ -41,11 +41,6 @@ TIP_GROUP = 3
 #: a tolerance from its contour, and two could meet nearer (a laser map's thick wall, whose
 #: tip reached over to the next wall, was then split at the crossing).
 TIP_CLEARANCE = 2.0
-#: Points lie along the way from the vertex to the group, each spot of it within this many
-#: radii of one: a notch's merged walls run on to its tip, while a shape of its own beside the
-#: turn (a speck 2 tolerances off a small ring) lies across empty space, a tolerance from
-#: the nearest point halfway.
-TIP_SUPPORT = 0.75
 #: Loops spanning this many radii are contours of their own, never a tip (a hoof beside a
 #: leg's turn; the sliver ring beside Keyboard0's doubled end wall stays a ring).
 TIP_STROKE = 4.0
@@ -64,8 +59,9 @@ def extend_tips(contours: list[OrderedContour], outliers: IntArray, pts: FloatAr
     members of small contours, open or closed. A group is taken when it lies beyond a vertex
     that turns by `TIP_TURN`, within `TIP_CONE` of the turn's bisector and `TIP_REACH` radii of the
     vertex, and when the contour with the vertex moved to the group's farthest point is still a
-    simple polygon with the group and its own members within ``gap`` of it, and points lie
-    along the way from the vertex to the group (`TIP_SUPPORT`); else, a group off
+    simple polygon with the group and its own members within ``gap`` of it, and the way from
+    the vertex to the group runs along points (`joining.runs_along_points`: a notch's merged
+    walls run on to its tip, a speck beside the turn lies across empty space); else, a group off
     the bisector is joined by its hull (`_tip_hull`). Each sharp vertex near a group is
     tried, the sharpest first. For clean scans (`contours.CLEAN_NOISE`), where a group is
     real shape: on a noisy laser map it may be clutter by a corner (Freiburg lost a closed
@@ -86,7 +82,7 @@ def extend_tips(contours: list[OrderedContour], outliers: IntArray, pts: FloatAr
     contours = list(contours)
     lines = shapely.STRtree([curve_line(c.points, c.closed) for c in contours])
     turns = {k: turning(contours[k].points, True) for k in rings}
-    support = Support(cKDTree(pts), TIP_SUPPORT * radius)
+    tree = cKDTree(pts) if groups else None
     taken: list[IntArray] = []
     dropped: set[int] = set()
     for group, stroke in groups:
@@ -94,8 +90,8 @@ def extend_tips(contours: list[OrderedContour], outliers: IntArray, pts: FloatAr
         for k, v in _tip_candidates(contours, rings, turns, xy, radius):
             vertex = contours[k].points[v]
             nearest = xy[np.argmin(np.linalg.norm(xy - vertex, axis=1))]
-            if not support.along(vertex[None], nearest[None])[0]:
-                continue  # across empty space: a shape of its own
+            if not runs_along_points(tree, vertex[None], nearest[None], radius)[0]:
+                continue  # across empty space: a shape of its own (a speck by the turn)
             new_xy = _tip_moved(contours[k], v, xy, pts, gap)
             if new_xy is None:
                 new_xy = _tip_hull(contours[k], xy, pts, radius, gap)
