@@ -10,7 +10,7 @@ import shapely
 
 import wavepoly
 from benchmarks.specks import shapes_drawn
-from wavepoly.ordering.islands import ISLAND_POINTS, speck_contours
+from wavepoly.ordering.islands import ISLAND_POINTS, SPECK_EXTENT, speck_contours
 from wavepoly.ordering.neighbourhoods import point_clusters
 from wavepoly.samples import sample_rings, scattered_ellipses
 from wavepoly.types import OrderedContour
@@ -60,19 +60,20 @@ def test_specks_are_small_polygons_of_their_own(seed):
 
 def test_a_speck_gives_way_to_its_hull_and_a_larger_group_does_not():
     """`speck_contours`: a speck's scrap of a line and its outliers become one ring, its
-    hull; a group wider than `ISLAND_EXTENT` tolerances and a speck tied to a larger contour
-    are left as they are."""
-    t = np.linspace(0, 2 * np.pi, 9, endpoint=False)
-    speck = 0.4 * EPS * np.column_stack([np.cos(t), np.sin(t)])
-    t = np.linspace(0, 2 * np.pi, 40, endpoint=False)
-    wide = 1.5 * EPS * np.column_stack([np.cos(t), np.sin(t)]) + [20.0, 0.0]
-    pts = np.vstack([speck, wide])
+    hull, as does a group up to `SPECK_EXTENT` tolerances across that nothing drew; a wider
+    one, and a speck tied to a larger contour, are left as they are."""
+    def circle(n: int, radius: float, centre: float) -> np.ndarray:
+        t = np.linspace(0, 2 * np.pi, n, endpoint=False)
+        return radius * np.column_stack([np.cos(t), np.sin(t)]) + [centre, 0.0]
+
+    speck, mid, wide = circle(9, 0.4 * EPS, 0.0), circle(24, EPS, 10.0), circle(40, 1.5, 20.0)
+    assert np.hypot(*np.ptp(mid, axis=0)) < SPECK_EXTENT * EPS < np.hypot(*np.ptp(wide, axis=0))
+    pts = np.vstack([speck, mid, wide])
     scrap = OrderedContour(speck[:3], False, np.arange(3))
     contours, outliers = speck_contours([scrap], np.arange(3, len(pts)), pts, EPS, EPS)
-    assert np.array_equal(outliers, np.arange(9, len(pts)))  # 4.2 tolerances: no speck
-    [hull] = contours
-    assert hull.closed and np.array_equal(hull.members, np.arange(9))
-    assert shapely.Polygon(hull.points).is_valid and len(hull.points) == 9
+    assert np.array_equal(outliers, np.arange(33, len(pts)))
+    assert [len(c.members) for c in contours] == [9, 24]
+    assert all(c.closed and shapely.Polygon(c.points).is_valid for c in contours)
     tied = OrderedContour(pts[:12], False, np.arange(12))  # one contour through both: left
-    contours, outliers = speck_contours([tied], np.arange(12, len(pts)), pts, EPS, EPS)
-    assert contours == [tied] and len(outliers) == len(pts) - 12
+    contours, outliers = speck_contours([tied], np.arange(33, len(pts)), pts, EPS, EPS)
+    assert contours == [tied]
