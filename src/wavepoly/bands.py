@@ -22,7 +22,7 @@ import numpy as np
 
 from .errors import DataError
 from .fit import fit
-from .geometry import nest_contours, orient_by_depth, polyline_length
+from .geometry import mean_width, nest_contours, orient_by_depth, polyline_length
 from .polylines import close_gaps
 from .sections import SURFACE_NEIGHBOURS, section_points, surface_samples
 from .staircase import farther_layers, outside_distances, slab_errors
@@ -216,19 +216,12 @@ def _broken(f: FitResult) -> bool:
     """Does the layer's section stand for no solid: open pieces (and closed ones folded onto
     themselves, `FOLDED_SECTION`) at least `BROKEN_SHARE` x as long as its other closed
     contours (a few fragments closed by chance among them do not make it one)?"""
-    solid = [c.closed and not _folded(c.vertices, f.tolerance) for c in f.contours]
+    solid = [c.closed and mean_width(c.vertices) >= FOLDED_SECTION * f.tolerance
+             for c in f.contours]
     opened = sum(polyline_length(c.vertices, c.closed) for c, s in zip(f.contours, solid)
                  if not s)
     closed = sum(polyline_length(c.vertices, True) for c, s in zip(f.contours, solid) if s)
     return opened > 0 and opened >= BROKEN_SHARE * closed
-
-
-def _folded(ring: FloatArray, tolerance: float) -> bool:
-    """Is the closed ``ring`` narrower on average than `FOLDED_SECTION` tolerances?"""
-    length = polyline_length(ring, True)
-    area = 0.5 * abs(np.dot(ring[:, 0], np.roll(ring[:, 1], -1))
-                     - np.dot(ring[:, 1], np.roll(ring[:, 0], -1)))
-    return 2 * area < FOLDED_SECTION * tolerance * length
 
 
 def _broken_runs(fits: list[FitResult]) -> list[tuple[int, int]]:

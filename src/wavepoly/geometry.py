@@ -385,6 +385,12 @@ def polyline_length(xy: FloatArray, closed: bool) -> float:
     return float(np.linalg.norm(np.diff(ring, axis=0), axis=1).sum())
 
 
+def mean_width(ring: FloatArray) -> float:
+    """Twice a closed ring's area over its perimeter: a strip's width, a disk's radius."""
+    polygon = shapely.Polygon(ring)
+    return 2 * abs(polygon.area) / max(polygon.length, 1e-300)
+
+
 def polyline_distance(points: FloatArray, vertices: FloatArray, closed: bool) -> FloatArray:
     """Distance of each point to a polyline (closed: including the last-to-first segment)."""
     if len(vertices) == 1:

@@ -70,9 +70,8 @@ from dataclasses import replace
 from functools import partial
 
 import numpy as np
-import shapely
 
-from ..geometry import polyline_distance
+from ..geometry import mean_width, polyline_distance
 from ..types import FloatArray, Ordering
 from ..validate import check_tolerance, validate_points
 from .contours import CORNER_GAP, CORNER_NOISE, clean_scan, contours_of
@@ -307,17 +306,11 @@ def _coarser_reading(ordering: Ordering, pts: FloatArray, radius: float, seed: i
     if (not wide.clean or len(wide.outliers) > len(ordering.outliers) or _open(wide) > 0
             or len(wide.contours) < len(ordering.contours) - _open(ordering)):
         return None  # a reading that closes only some (a slab cut along a face) is no better
-    if any(_mean_width(c.points) < FOLDED_WIDTH * coarse for c in wide.contours):
+    if any(mean_width(c.points) < FOLDED_WIDTH * coarse for c in wide.contours):
         return None
     note = (f"read at a radius of {coarse:.4g}: the point spacing varies across the scan, and "
             f"at {radius:.4g} the march broke outlines where the points are sparsest")
     return replace(wide, notes=(*wide.notes, note))
-
-
-def _mean_width(ring: FloatArray) -> float:
-    """Twice a closed ring's area over its perimeter: a strip's width, a disk's radius."""
-    polygon = shapely.Polygon(ring)
-    return 2 * abs(polygon.area) / max(polygon.length, 1e-300)
 
 
 def _exact_reading(ordering: Ordering, pts: FloatArray, tolerance: float | None,
