@@ -15,6 +15,7 @@ from scipy.spatial import cKDTree
 
 from ..geometry import nearest_segment, nearest_site, polyline_length
 from ..types import Chain, FloatArray, IntArray, OrderedContour
+from .folds import unfold_rings
 from .gaps import close_gaps
 from .marching import CORNER_TURN, SIDE_CHAIN_REACH, turning
 from .mouths import join_through_mouths
@@ -168,6 +169,8 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
             rejoin_split_tips(contours, radius, pts), pts, radius), pts, radius)
         if any(not c.closed for c in contours):  # the outlines closed since take their tips
             contours, outliers = extend_tips(contours, outliers, pts, radius, outlier_gap)
+    if clean:
+        contours = unfold_rings(contours, pts, radius)
     return contours, outliers
 
 

@@ -64,6 +64,12 @@ BUBBLE_WIDTH = 1.5
 #: each, or a slit's walls followed apart (8-10 radii on the silhouettes). Longer ones are a
 #: chord beside a wall, whose region's boundary `outer_edges` finds.
 BUBBLE_LENGTH = 12.0
+#: Edges inside a cycle longer together than this share of the cycle are no chords across it
+#: (a chord spans at most a diameter, a third of a round outline) but a second ring the march
+#: stepped onto and off: two circles 1.5 tolerances apart, the inner one cut into pieces where
+#: the outer's chain crossed it, each 1.5 radii inside the outer, within `COVER_REACH` of it
+#: all the way round.
+INNER_RING_SHARE = 0.5
 
 
 def close_outlines(contours: list[OrderedContour], points: FloatArray, radius: float
@@ -359,8 +365,12 @@ def _middle(a: FloatArray, b: FloatArray) -> FloatArray:
 def _inner_covered(ring: FloatArray, inner: list[int], edges: list[Edge], members: FloatArray,
                    radius: float) -> bool:
     """Whether the ring is a simple polygon within `COVER_REACH` radii of every member nearer
-    the inner edges it leaves out than the ring."""
+    the inner edges it leaves out than the ring, and those edges are no longer together than
+    `INNER_RING_SHARE` of the ring (a ring of their own, not chords across it)."""
     if not shapely.Polygon(ring).is_valid:
+        return False
+    left_out = sum(polyline_length(edges[k].xy, False) for k in inner)
+    if left_out > INNER_RING_SHARE * polyline_length(ring, True):
         return False
     to_ring = polyline_distance(members, ring, True)
     to_inner = np.min([polyline_distance(members, edges[k].xy, False) for k in inner], axis=0)
