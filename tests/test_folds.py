@@ -95,3 +95,32 @@ def test_circles_one_and_a_half_tolerances_apart_are_drawn_one_ring_each(radius,
     inner = sorted(float(np.mean(np.hypot(*c.vertices.T) < radius + 0.75 * eps))
                    for c in result.contours)
     assert inner[0] <= 0.1 and inner[1] >= 0.9
+
+
+def test_chains_crossing_at_four_places_swap_back_onto_their_circles():
+    """Two chains that each jump between two circles 1.5 radii apart at four places, crossing
+    each other there: at every crossing each continues along the other's arc, and each comes
+    out on one circle (the swap handled two crossings only, and the chains were split into
+    open pieces at the crossings)."""
+    from wavepoly.ordering.untangle import swap_crossed_stretches
+
+    inner, outer = 1.0, 1.0 + 1.5 * RADIUS
+    quarter = [(k * np.pi / 2, (k + 1) * np.pi / 2) for k in range(4)]
+    one = np.vstack([_arc(inner if k % 2 == 0 else outer, a, b)[:-1]
+                     for k, (a, b) in enumerate(quarter)])
+    two = np.vstack([_arc(outer if k % 2 == 0 else inner, a, b)[:-1]
+                     for k, (a, b) in enumerate(quarter)])
+    pts = _circles([inner, outer])
+    out = swap_crossed_stretches(_contours([one, two], pts), pts)
+    radii = sorted((np.hypot(*c.points.T) for c in out), key=np.mean)
+    assert [float(np.ptp(r)) for r in radii] == pytest.approx([0.0, 0.0], abs=1e-9)
+    assert [radii[0][0], radii[1][0]] == pytest.approx([inner, outer])
+    assert sum(len(c.members) for c in out) == len(pts)
+
+
+@pytest.mark.parametrize(("radius", "seed"), [(3.0, 105)])
+def test_circles_whose_chains_cross_at_six_places_come_out_one_ring_each(radius, seed):
+    """Circles 1.5 ε apart with noise 3ε / 16 whose two chains crossed each other at six
+    places: split there, they came out as ten open pieces; swapped back at every crossing,
+    two rings, each on its circle."""
+    test_circles_one_and_a_half_tolerances_apart_are_drawn_one_ring_each(radius, 3 / 16, seed)

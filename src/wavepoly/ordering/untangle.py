@@ -321,6 +321,8 @@ def _swap_pair(one: OrderedContour, two: OrderedContour, points: FloatArray
     not meet, and the larger smaller area (the wrong pairing leaves a sliver between the
     rings)."""
     crossings = _crossings_between(one.points, two.points)
+    if len(crossings) > 2 and len(crossings) % 2 == 0:
+        return _swap_at_every_crossing(one, two, crossings, points)
     if len(crossings) != 2 or min(c[2] for c in crossings) < SWITCH_TURN:
         return None
     (i1, j1, _), (i2, j2, _) = sorted(crossings)
@@ -347,6 +349,81 @@ def _swap_pair(one: OrderedContour, two: OrderedContour, points: FloatArray
     mine = dist[0] <= dist[1]
     return (OrderedContour(best[0], True, np.sort(members[mine])),
             OrderedContour(best[1], True, np.sort(members[~mine])))
+
+
+def _swap_at_every_crossing(one: OrderedContour, two: OrderedContour,
+                            crossings: list[tuple[int, int, float]], points: FloatArray
+                            ) -> tuple[OrderedContour, OrderedContour] | None:
+    """`_swap_pair` where the chains cross at four places or more (the march jumped between
+    the rings wherever both thinned out): both chains run the same way round, and at every
+    crossing each continues along the other's arc from there (an X uncrossed the way that
+    keeps the direction). Kept where that walks two simple rings that do not meet, most of
+    the crossings turning sharply (`SWITCH_TURN`: smooth curves that truly cross run
+    straight through); else None."""
+    if np.median([c[2] for c in crossings]) < SWITCH_TURN:
+        return None
+    a, b = one.points, two.points
+    if shapely.is_ccw(shapely.LinearRing(a)) != shapely.is_ccw(shapely.LinearRing(b)):
+        b = b[::-1]
+        crossings = [(e, (len(b) - 2 - f) % len(b), t) for e, f, t in crossings]
+    along_a, along_b = _crossing_stations(a, b, crossings)
+    arcs_a = _arcs_between(a, along_a)
+    arcs_b = _arcs_between(b, along_b)
+    rings, left = [], set(range(len(crossings)))
+    while left:
+        start = min(left)
+        at, on, parts = start, 0, []
+        while True:
+            if on == 0:
+                left.discard(at)
+            arc, at = (arcs_a if on == 0 else arcs_b)[at]
+            parts.append(arc)
+            on = 1 - on
+            if on == 0 and at == start:
+                break
+            if len(parts) > 2 * len(crossings):
+                return None
+        rings.append(np.vstack(parts))
+    if len(rings) != 2 or min(len(r) for r in rings) < 4:
+        return None
+    lines = [shapely.LinearRing(r) for r in rings]
+    if not all(shapely.is_simple(line) for line in lines) or shapely.intersects(*lines):
+        return None
+    members = np.concatenate([one.members, two.members])
+    dist = np.stack([shapely.distance(shapely.points(points[members]), line) for line in lines])
+    mine = dist[0] <= dist[1]
+    return (OrderedContour(rings[0], True, np.sort(members[mine])),
+            OrderedContour(rings[1], True, np.sort(members[~mine])))
+
+
+def _crossing_stations(a: FloatArray, b: FloatArray, crossings: list[tuple[int, int, float]]
+                       ) -> tuple[FloatArray, FloatArray]:
+    """Where each crossing lies along closed chains ``a`` and ``b``: its edge's index plus
+    how far along that edge (0 to 1), so that two crossings on one edge keep their order."""
+    e = np.array([c[0] for c in crossings])
+    f = np.array([c[1] for c in crossings])
+    p, r = a[e], np.roll(a, -1, axis=0)[e] - a[e]
+    q, s = b[f], np.roll(b, -1, axis=0)[f] - b[f]
+    denom = r[:, 0] * s[:, 1] - r[:, 1] * s[:, 0]
+    denom = np.where(np.abs(denom) > 0, denom, 1.0)
+    qp = q - p
+    t = (qp[:, 0] * s[:, 1] - qp[:, 1] * s[:, 0]) / denom
+    u = (qp[:, 0] * r[:, 1] - qp[:, 1] * r[:, 0]) / denom
+    return e + np.clip(t, 0.0, 1.0), f + np.clip(u, 0.0, 1.0)
+
+
+def _arcs_between(xy: FloatArray, stations: FloatArray) -> dict[int, tuple[FloatArray, int]]:
+    """For each crossing k (at ``stations[k]`` along closed chain ``xy``: `_crossing_stations`),
+    the vertices from it on to the next crossing along the chain, and that crossing."""
+    order = np.argsort(stations, kind="stable")
+    n = len(xy)
+    out = {}
+    for pos, k in enumerate(order):
+        nxt = int(order[(pos + 1) % len(order)])
+        first = int(np.floor(stations[k])) + 1
+        last = int(np.floor(stations[nxt])) + (n if pos + 1 == len(order) else 0)
+        out[int(k)] = (xy[np.arange(first, last + 1) % n], nxt)  # the last runs on past 0
+    return out
 
 
 def _arcs(xy: FloatArray, e1: int, e2: int) -> tuple[FloatArray, FloatArray]:
