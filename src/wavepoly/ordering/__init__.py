@@ -43,7 +43,10 @@ Python loop runs over points:
    wall, drawn apart by its half-width (`shared_walls`).
    A ring capped across a narrow root, facing a bare straight stretch of another ring (a limb
    or a pocket the march closed on itself while the body's outline ran past), joins that ring
-   as one outline (`mouths`).
+   as one outline (`mouths`). Two thin rings, each walked out along one of two walls side by
+   side and back along the other and turning back where the other does (the march swapped
+   walls at two places), are cut where they face each other and joined along the walls
+   (`folds`).
 5. On a noisy scan the outliers are read again: the compact strokes among them (a ghost wall
    beside a wall, the foot of a short wall meeting it) become contours clear of the first
    ones (`strokes`).

@@ -251,7 +251,9 @@ def swap_crossed_stretches(contours: list[OrderedContour], points: FloatArray
     cross twice, each following the other's ring between the crossings, on edges that turn
     sharply (`SWITCH_TURN`). Swapping those
     stretches gives each chain its own ring back; the swap is kept only when neither new
-    chain crosses itself or the other. Each chain's members go to the nearer new chain.
+    chain crosses itself or the other. Where both rings thinned out at several places, the
+    chains cross at four or more, and swap at every crossing (`_swap_at_every_crossing`).
+    Each chain's members go to the nearer new chain.
     """
     closed = [k for k, c in enumerate(contours) if c.closed and len(c.points) >= 4]
     if len(closed) < 2:
