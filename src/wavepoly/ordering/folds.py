@@ -38,8 +38,8 @@ JOIN_REACH = 3 * FACING_REACH
 def unfold_rings(contours: list[OrderedContour], points: FloatArray, radius: float
                  ) -> list[OrderedContour]:
     """The contours, with thin rings that face each other end to end re-paired along their
-    walls where that gives rings that are not thin, valid, cross nothing, and whose joins run
-    along points.
+    walls where that gives rings that are not thin, valid, cross nothing, and whose joins the
+    points fill.
 
     Parameters
     ----------
