@@ -68,8 +68,9 @@ def near_rings_sweep(truth) -> str:
             "each drawing one circle (at most a tenth of its vertices nearer the other), "
             "valid, no outliers; *merged*: one ring, where the march stepped across to the "
             "other circle where one's points thin out and back, or drew both as one zigzag; "
-            "*folded*: two closed rings, each walked out along one circle and back along the "
-            "other; *open*: results with an open piece. At 1.5 ε with noise ε / 4 each "
+            "*folded*: two closed rings not one on each circle, each walked out along one "
+            "circle and back along the other, or one reaching across to the other in teeth; "
+            "*open*: results with an open piece. At 1.5 ε with noise ε / 4 each "
             "circle's band (four standard deviations wide) leaves half an ε of empty space "
             "between them.\n\n"
             + table(["gap", "noise", "right", "merged", "folded", "open", "invalid", "seconds"],
