@@ -435,3 +435,18 @@ def to_plane(points: FloatArray, basis: FloatArray) -> FloatArray:
     elementwise so that a chunk of a cloud gets the very numbers of the whole cloud."""
     x, y, z = points[:, 0], points[:, 1], points[:, 2]
     return np.column_stack([x * b[0] + y * b[1] + z * b[2] for b in basis])
+
+
+def true_runs(mask: np.ndarray, closed: bool, min_run: int = 1) -> list[IntArray]:
+    """Index runs of at least ``min_run`` consecutive True values of ``mask``, in order
+    (cyclic when ``closed``: a run may wrap past the last index to the first)."""
+    m = len(mask)
+    if closed and mask.all():
+        return [np.arange(m)] if m >= min_run else []
+    shift = 0
+    if closed and m:  # start the scan just after a False so that no run wraps
+        shift = int(np.flatnonzero(~mask)[-1]) + 1
+    rolled = np.roll(mask, -shift)
+    edges = np.diff(np.concatenate([[0], rolled.astype(np.int8), [0]]))
+    starts, ends = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
+    return [(np.arange(s, e) + shift) % m for s, e in zip(starts, ends) if e - s >= min_run]

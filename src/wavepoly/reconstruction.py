@@ -27,7 +27,7 @@ import shapely
 from scipy.spatial import cKDTree
 
 from . import wavelets
-from .geometry import curve_line, nearest_site, polyline_distance, segment_distance
+from .geometry import curve_line, nearest_site, polyline_distance, segment_distance, true_runs
 from .kernels import neighbour_distances
 from .parameters import (
     hull_groups,
@@ -99,16 +99,7 @@ def storable_mask(points: FloatArray, coeffs: FloatArray, closed: bool, toleranc
 
 def storable_runs(candidate: np.ndarray, closed: bool, min_run: int = MIN_RUN) -> list[IntArray]:
     """Index runs of at least ``min_run`` consecutive True values (cyclic when ``closed``)."""
-    m = len(candidate)
-    if closed and candidate.all():
-        return [np.arange(m)]
-    shift = 0
-    if closed:  # start the scan just after a False so that no run wraps
-        shift = int(np.flatnonzero(~candidate)[-1]) + 1
-    rolled = np.roll(candidate, -shift)
-    edges = np.diff(np.concatenate([[0], rolled.astype(np.int8), [0]]))
-    starts, ends = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
-    return [(np.arange(s, e) + shift) % m for s, e in zip(starts, ends) if e - s >= min_run]
+    return true_runs(candidate, closed, min_run)
 
 
 def _inside(u: FloatArray, mscs: list[Msc], closed: bool) -> np.ndarray:

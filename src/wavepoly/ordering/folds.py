@@ -17,7 +17,7 @@ import numpy as np
 import shapely
 from scipy.spatial import cKDTree
 
-from ..geometry import mean_width
+from ..geometry import mean_width, true_runs
 from ..types import FloatArray, OrderedContour
 from .gaps import is_supported
 from .untangle import share_members
@@ -104,7 +104,7 @@ def _groups(places: list[tuple[int, np.ndarray, int, np.ndarray]]) -> list[set[i
 def _facing_places(rings: list[FloatArray], radius: float
                    ) -> list[tuple[int, np.ndarray, int, np.ndarray]]:
     """Where two of the thin ``rings`` come within `FACING_REACH` radii of each other: for
-    each such place, the two rings and the masks of their vertices there (one run each)."""
+    each such place, the two rings and the indices of their vertices there (one run each)."""
     lines = [shapely.LinearRing(r) for r in rings]
     places = []
     for a in range(len(rings)):
@@ -125,18 +125,9 @@ def _facing_places(rings: list[FloatArray], radius: float
 
 
 def _runs(mask: np.ndarray) -> list[np.ndarray]:
-    """The cyclic runs of True in ``mask``, each as a mask; none where all are True."""
-    if mask.all() or not mask.any():
-        return []
-    start = int(np.flatnonzero(~mask)[0])
-    rolled = np.roll(mask, -start)
-    edges = np.diff(rolled.astype(np.int8), prepend=0, append=0)
-    runs = []
-    for s, e in zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)):
-        run = np.zeros(len(mask), dtype=bool)
-        run[(np.arange(s, e) + start) % len(mask)] = True
-        runs.append(run)
-    return runs
+    """The cyclic runs of True in ``mask``, each as indices in order; none where all are True
+    (a ring that is all one place faces nothing end to end)."""
+    return [] if mask.all() else true_runs(mask, closed=True)
 
 
 def _rejoined(rings: list[FloatArray], places, points: FloatArray, radius: float
@@ -148,22 +139,17 @@ def _rejoined(rings: list[FloatArray], places, points: FloatArray, radius: float
     thin out, so a join may cross a gap in its own wall's sampling), or a stretch is left
     over."""
     cut: dict[int, np.ndarray] = {}
-    for a, ma, b, mb in places:
-        cut[a] = cut.get(a, np.zeros(len(rings[a]), dtype=bool)) | ma
-        cut[b] = cut.get(b, np.zeros(len(rings[b]), dtype=bool)) | mb
+    for a, ra, b, rb in places:
+        for k, run in ((a, ra), (b, rb)):
+            cut.setdefault(k, np.zeros(len(rings[k]), dtype=bool))[run] = True
     stretches: list[FloatArray] = []
     ring_of: list[int] = []
     for k, mask in cut.items():
         if len(_runs(mask)) < 2:
             return None, set()
-        start = int(np.flatnonzero(mask)[0])
-        keep = np.roll(~mask, -start)
-        xy = np.roll(rings[k], -start, axis=0)
-        edges = np.diff(keep.astype(np.int8), prepend=0, append=0)
-        for s, e in zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)):
-            if e - s >= 2:
-                stretches.append(xy[s:e])
-                ring_of.append(k)
+        for run in true_runs(~mask, closed=True, min_run=2):
+            stretches.append(rings[k][run])
+            ring_of.append(k)
     ends = np.array([s[i] for s in stretches for i in (0, -1)])
     partner = _in_line(ends, np.repeat(ring_of, 2), rings, places, radius)
     if partner is None:

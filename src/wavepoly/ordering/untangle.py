@@ -343,14 +343,19 @@ def _swap_pair(one: OrderedContour, two: OrderedContour, points: FloatArray
         area = min(shapely.area(shapely.Polygon(r)) for r in rings)
         if area > best_area:
             best, best_area = rings, area
-    if best is None:
-        return None
+    return None if best is None else _with_members(best, one, two, points)
+
+
+def _with_members(rings: list[FloatArray], one: OrderedContour, two: OrderedContour,
+                  points: FloatArray) -> tuple[OrderedContour, OrderedContour]:
+    """The two swapped ``rings`` as closed contours, each with the members of ``one`` and
+    ``two`` nearer it."""
     members = np.concatenate([one.members, two.members])
     dist = np.stack([shapely.distance(shapely.points(points[members]), shapely.LinearRing(r))
-                     for r in best])
+                     for r in rings])
     mine = dist[0] <= dist[1]
-    return (OrderedContour(best[0], True, np.sort(members[mine])),
-            OrderedContour(best[1], True, np.sort(members[~mine])))
+    return (OrderedContour(rings[0], True, np.sort(members[mine])),
+            OrderedContour(rings[1], True, np.sort(members[~mine])))
 
 
 def _swap_at_every_crossing(one: OrderedContour, two: OrderedContour,
@@ -391,11 +396,7 @@ def _swap_at_every_crossing(one: OrderedContour, two: OrderedContour,
     lines = [shapely.LinearRing(r) for r in rings]
     if not all(shapely.is_simple(line) for line in lines) or shapely.intersects(*lines):
         return None
-    members = np.concatenate([one.members, two.members])
-    dist = np.stack([shapely.distance(shapely.points(points[members]), line) for line in lines])
-    mine = dist[0] <= dist[1]
-    return (OrderedContour(rings[0], True, np.sort(members[mine])),
-            OrderedContour(rings[1], True, np.sort(members[~mine])))
+    return _with_members(rings, one, two, points)
 
 
 def _crossing_stations(a: FloatArray, b: FloatArray, crossings: list[tuple[int, int, float]]
