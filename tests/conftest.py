@@ -67,3 +67,18 @@ def teeth(result, short: float = 2.0, turn: float = 135.0) -> int:
 
     return sum(turn_backs(c.vertices, c.closed, short * result.tolerance, turn)
                for c in result.contours)
+
+
+def assert_rings_drawn(rings: list[np.ndarray], pts: np.ndarray, result, eps: float) -> None:
+    """The silhouette sweep's *right* (`benchmarks.bench_validity`), asserted: every contour
+    closed, one per ring, no outliers, valid by wavepoly's check and the independent one,
+    and every point within ε."""
+    from benchmarks.bench_validity import _one_per_ring
+
+    from .truth import independent_problems
+
+    assert all(c.closed for c in result.contours), [c.closed for c in result.contours]
+    assert _one_per_ring(rings, result.contours, eps)
+    assert len(result.outliers) == 0
+    assert result.validity.valid and independent_problems(result) == []
+    assert distance_to_output(pts, result).max() <= eps * (1 + 1e-9)

@@ -642,7 +642,7 @@ def test_a_coarser_reading_that_folds_an_outline_onto_itself_is_not_kept():
     back along the other (its mean width, twice its area over its perimeter, under its
     radius): in a plane through a shallow face the turbine blade's section came out so, a
     layer of 3 % of the section's area."""
-    from wavepoly.ordering import FOLDED_WIDTH, _coarser_reading
+    from wavepoly.ordering.rereading import FOLDED_WIDTH, _coarser_reading
     from wavepoly.types import OrderedContour, Ordering
 
     rng = np.random.default_rng(0)

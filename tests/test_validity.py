@@ -708,7 +708,7 @@ def test_serif_hairlines_at_a_coarse_tolerance_keep_their_rings(char):
 def test_a_finer_reading_that_closes_more_wins_over_an_exact_one(char, spacing, noise, eps):
     """STIX at ε 4-6 % of its height: read as noise, the walls of its strokes looked like
     scatter; read exactly at the tolerance's radius, pieces stayed open ('A' three of four),
-    where at half the radius every ring closes (`ordering._mends_more`)."""
+    where at half the radius every ring closes (`ordering.rereading._mends_more`)."""
     shape = glyph_outlines(char, height=20.0, family="STIXGeneral")
     pts = sample_rings(shape.rings, spacing=spacing, noise=noise, seed=11)
     result = wavepoly.fit(pts, eps)

@@ -7,6 +7,9 @@ from scipy.spatial import cKDTree
 
 from ..types import FloatArray
 
+#: The radius must be at least this many point spacings, or one neighbourhood holds too few
+#: points along the curve to give a tangent; a smaller radius is widened, with a note.
+SPACINGS_PER_RADIUS = 3.0
 #: Points probed for a spacing estimate: the median of 20,000 distances is stable to ~1 %.
 SPACING_SAMPLE = 20_000
 #: Clouds larger than twice this are first estimated from a random subset of this size.
