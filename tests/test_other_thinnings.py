@@ -9,13 +9,15 @@ import pytest
 import wavepoly
 import wavepoly.ordering.rereading as rereading
 from benchmarks.silhouettes import bitmap, sample, silhouette, thinned
+from wavepoly.ordering.rereading import _free_end
+from wavepoly.types import OrderedContour, Ordering
 
 from .conftest import assert_rings_drawn
 
 #: Silhouette sweep samplings whose seed-0 reading left pieces of the outline open: (seed,
 #: bitmap pixels or None, points or None for the traced ones, diagonal / ε, noise in ε,
 #: thinned to a quarter across).
-BROKEN = [(28, None, 3000, 300, 1 / 8, False), (13, 200, 2000, 100, 1 / 4, False),
+BROKEN = [(28, None, 3000, 300, 1 / 8, False), (35, None, 1000, 150, 1 / 4, False),
           (0, 600, None, 300, 0.0, False), (16, None, 1000, 150, 0.0, True)]
 
 
@@ -53,4 +55,44 @@ def test_an_open_curve_is_read_once_and_stays_open():
     pts = np.column_stack([t, np.sin(t)])
     result = wavepoly.fit(pts, 0.05)
     assert [c.closed for c in result.contours] == [False]
+    assert not any("thinning seed" in n for n in result.notes)
+
+
+def _pieces(*lines, closed=()) -> Ordering:
+    return Ordering([OrderedContour(np.asarray(line, float), k in closed, np.arange(0))
+                     for k, line in enumerate(lines)], np.arange(0), 1.0, clean=True)
+
+
+def test_a_free_end_marks_a_broken_outline_and_junctions_a_network():
+    """`_free_end`: strokes that end on other lines (a bar across a ring, its ends at T
+    junctions) are a network; an end standing `FREE_END` radii from every line is a break,
+    or a stroke's own tip (read again, a lone stroke stays open: the test above)."""
+    t = np.linspace(0, 2 * np.pi, 120, endpoint=False)
+    ring = 10 * np.column_stack([np.cos(t), np.sin(t)])
+    bar = np.column_stack([np.linspace(-10, 10, 41), np.zeros(41)])
+    assert not _free_end(_pieces(ring, bar, closed=(0,)))
+    assert not _free_end(_pieces(ring, bar * [0.97, 1], closed=(0,)))
+    assert _free_end(_pieces(ring, bar * [0.5, 1], closed=(0,)))
+    # a U whose arms end 6 radii apart: its own line is near each end only along the arc
+    u = np.vstack([np.column_stack([np.zeros(21), np.linspace(10, 0, 21)]),
+                   np.column_stack([np.linspace(0.5, 6, 12), np.zeros(12)]),
+                   np.column_stack([np.full(20, 6.0), np.linspace(0.5, 10, 20)])])
+    assert _free_end(_pieces(u))
+    assert not _free_end(_pieces(u, [[0, 10], [3, 12], [6, 10]]))
+
+
+def test_a_line_drawings_strokes_stay_strokes(shared_data):
+    """Deery's strokes meet at T junctions: no end stands free, so other thinnings (one of
+    which closed them into two rings walking the strokes out and back) are not tried."""
+    from benchmarks.bench_validity import DIAGONAL_PER_TOLERANCE, _sample_shape
+
+    from .truth import diagonal, svg_shape
+
+    path = shared_data / "curves2d" / "ground_truth_svg" / "Deery.svg"
+    if not path.exists():
+        pytest.skip(f"{path} is not here")
+    shape = svg_shape(path)
+    eps = diagonal(shape) / DIAGONAL_PER_TOLERANCE
+    result = wavepoly.fit(_sample_shape(shape, eps, 0), eps)
+    assert sum(not c.closed for c in result.contours) == 6
     assert not any("thinning seed" in n for n in result.notes)

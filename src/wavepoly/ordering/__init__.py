@@ -62,8 +62,9 @@ Python loop runs over points:
    (`rereading.EXACT_GAIN`): small shapes with sharp corners, and letters packed side by
    side, look like scatter to the windows that measure the noise. Where the finer reading
    of 6. mends it too, that one is kept where it leaves fewer open or out (`rereading`).
-8. Where a clean reading still left outlines open, the scan is read again with other seeds
-   of the thinning, and the first reading that closes every outline is kept
+8. Where a clean reading still left outlines open, one ending far from every other line,
+   the scan is read again with other seeds of the thinning, and the first reading that
+   closes every outline is kept
    (`rereading.other_thinnings`): where walls run within the radius of each other, which
    centroids the thinning keeps decides whether the march steps across to the other wall.
 

@@ -14,6 +14,8 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import replace
 
+import numpy as np
+
 from ..geometry import mean_width, polyline_distance
 from ..types import FloatArray, Ordering
 from .contours import clean_scan
@@ -98,6 +100,15 @@ FOLDED_WIDTH = 1.0
 #: whose walls run within the radius of each other), 10 come out right with three; only
 #: scans left open pay the extra readings.
 OTHER_THINNINGS = 3
+#: ... where an open contour ends at least this many radii from every other line
+#: (`_free_end`): the silhouettes the march broke left an end 5.2-6.2 radii from any other
+#: (7 of the 10 that other seeds mend); a line drawing's strokes meet at junctions, their
+#: ends within 2.1 radii of another stroke, a dangling stroke's tip 3.1 (Deery, Fishi, Snail,
+#: whose strokes other seeds closed into rings walking them out and back).
+FREE_END = 4.0
+#: A piece's own line counts from this many radii along it from its end: nearer, it lies
+#: within that reach of the end however straight it runs.
+OWN_ARC = 5.0
 
 
 def chosen_reading(pts: FloatArray, read: Callable[..., Ordering], seed: int, *,
@@ -119,13 +130,15 @@ def chosen_reading(pts: FloatArray, read: Callable[..., Ordering], seed: int, *,
 def other_thinnings(ordering: Ordering, pts: FloatArray, seed: int,
                      reading: Callable[[int], Ordering]) -> Ordering | None:
     """The scan read again with `OTHER_THINNINGS` other seeds of the thinning where a clean
-    reading left outlines open: the first that closes every one (`_closes_all`); else None.
+    reading left outlines open, one of them ending free (`_free_end`): the first that closes
+    every one (`_closes_all`); else None.
 
     Where two walls run within the radius of each other (a slit, a thin limb's sides, a
     limb beside a slit), which centroids the thinning keeps decides whether the march
     steps across to the other wall and breaks an outline; another thinning of the same
     neighbourhoods often does not."""
-    if not ordering.clean or _open(ordering) == 0 or len(pts) > COARSER_POINTS:
+    if (not ordering.clean or _open(ordering) == 0 or len(pts) > COARSER_POINTS
+            or not _free_end(ordering)):
         return None
     for other in range(seed + 1, seed + 1 + OTHER_THINNINGS):
         again = reading(other)
@@ -134,6 +147,30 @@ def other_thinnings(ordering: Ordering, pts: FloatArray, seed: int,
                     f"{_open(ordering)} of its {len(ordering.contours)} contours open")
             return replace(again, notes=(*again.notes, note))
     return None
+
+
+def _free_end(ordering: Ordering) -> bool:
+    """Whether an open contour of ``ordering`` ends `FREE_END` radii or more from every
+    other contour and from its own line `OWN_ARC` radii along and beyond: an outline the
+    march broke (it turned back short of a slit's tip, or stopped where two walls' points
+    mingle), not a network of strokes that meet at their junctions."""
+    reach = FREE_END * ordering.radius
+    lines = [np.vstack([c.points, c.points[:1]]) if c.closed else c.points
+             for c in ordering.contours]
+    for k, c in enumerate(ordering.contours):
+        if c.closed:
+            continue
+        arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(c.points, axis=0),
+                                                              axis=1))])
+        others = [line for j, line in enumerate(lines) if j != k and len(line) >= 2]
+        own = OWN_ARC * ordering.radius
+        ends = ((c.points[0], arc >= own), (c.points[-1], arc <= arc[-1] - own))
+        for end, far in ends:
+            rest = [*others, c.points[far]] if far.sum() >= 2 else others
+            gaps = [polyline_distance(end[None], line, False)[0] for line in rest]
+            if min(gaps, default=np.inf) >= reach:
+                return True
+    return False
 
 
 def _closes_all(again: Ordering, ordering: Ordering, radius: float) -> bool:
