@@ -18,7 +18,8 @@ from .conftest import assert_rings_drawn
 #: bitmap pixels or None, points or None for the traced ones, diagonal / ε, noise in ε,
 #: thinned to a quarter across).
 BROKEN = [(28, None, 3000, 300, 1 / 8, False), (35, None, 1000, 150, 1 / 4, False),
-          (0, 600, None, 300, 0.0, False), (16, None, 1000, 150, 0.0, True)]
+          (0, 600, None, 300, 0.0, False), (16, None, 1000, 150, 0.0, True),
+          (45, 300, None, 150, 0.0, False)]
 
 
 def _case(seed, pixels, n, division, noise, thin):

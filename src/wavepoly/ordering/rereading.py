@@ -97,14 +97,14 @@ FOLDED_WIDTH = 1.0
 
 #: A clean reading that left outlines open is read again with up to this many other seeds of
 #: the thinning (`other_thinnings`): of the silhouette sweep's 25 misses (slits and thin limbs
-#: whose walls run within the radius of each other), 10 come out right with three; only
-#: scans left open pay the extra readings.
-OTHER_THINNINGS = 3
+#: whose walls run within the radius of each other), 9 come out right with six (at seeds 1,
+#: 1, 1, 3, 3, 3, 4, 5, 6; 6 with three); only scans left open pay the extra readings.
+OTHER_THINNINGS = 6
 #: ... where an open contour ends at least this many radii from every other line
-#: (`_free_end`): the silhouettes the march broke left an end 5.2-6.2 radii from any other
-#: (7 of the 10 that other seeds mend); a line drawing's strokes meet at junctions, their
-#: ends within 2.1 radii of another stroke, a dangling stroke's tip 3.1 (Deery, Fishi, Snail,
-#: whose strokes other seeds closed into rings walking them out and back).
+#: (`_free_end`): the silhouettes the march broke left an end 5.2-6.2 radii from any other;
+#: a line drawing's strokes meet at junctions, their ends within 2.1 radii of another
+#: stroke, a dangling stroke's tip 3.1 (Deery, Fishi, Snail, whose strokes other seeds
+#: closed into rings walking them out and back).
 FREE_END = 4.0
 #: A piece's own line counts from this many radii along it from its end: nearer, it lies
 #: within that reach of the end however straight it runs.
@@ -130,8 +130,12 @@ def chosen_reading(pts: FloatArray, read: Callable[..., Ordering], seed: int, *,
 def other_thinnings(ordering: Ordering, pts: FloatArray, seed: int,
                      reading: Callable[[int], Ordering]) -> Ordering | None:
     """The scan read again with `OTHER_THINNINGS` other seeds of the thinning where a clean
-    reading left outlines open, one of them ending free (`_free_end`): the first that closes
-    every one (`_closes_all`); else None.
+    reading left outlines open, one of them ending free (`_free_end`): the first read at the
+    same radius that closes every one (`_closes_all`); else None. A seed whose own first
+    reading was replaced by a coarser or finer one is no other thinning of the same
+    neighbourhoods: a layer cut along the turbine blade's flat face, closed so at a coarser
+    radius, zigzagged through the face's points where the bridged gaps of the first reading
+    drew the section.
 
     Where two walls run within the radius of each other (a slit, a thin limb's sides, a
     limb beside a slit), which centroids the thinning keeps decides whether the march
@@ -142,7 +146,7 @@ def other_thinnings(ordering: Ordering, pts: FloatArray, seed: int,
         return None
     for other in range(seed + 1, seed + 1 + OTHER_THINNINGS):
         again = reading(other)
-        if _closes_all(again, ordering, again.radius):
+        if again.radius == ordering.radius and _closes_all(again, ordering, ordering.radius):
             note = (f"read with thinning seed {other}: with seed {seed} the march left "
                     f"{_open(ordering)} of its {len(ordering.contours)} contours open")
             return replace(again, notes=(*again.notes, note))
@@ -154,7 +158,7 @@ def _free_end(ordering: Ordering) -> bool:
     other contour and from its own line `OWN_ARC` radii along and beyond: an outline the
     march broke (it turned back short of a slit's tip, or stopped where two walls' points
     mingle), not a network of strokes that meet at their junctions."""
-    reach = FREE_END * ordering.radius
+    reach, own = FREE_END * ordering.radius, OWN_ARC * ordering.radius
     lines = [np.vstack([c.points, c.points[:1]]) if c.closed else c.points
              for c in ordering.contours]
     for k, c in enumerate(ordering.contours):
@@ -163,7 +167,6 @@ def _free_end(ordering: Ordering) -> bool:
         arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(c.points, axis=0),
                                                               axis=1))])
         others = [line for j, line in enumerate(lines) if j != k and len(line) >= 2]
-        own = OWN_ARC * ordering.radius
         ends = ((c.points[0], arc >= own), (c.points[-1], arc <= arc[-1] - own))
         for end, far in ends:
             rest = [*others, c.points[far]] if far.sum() >= 2 else others
