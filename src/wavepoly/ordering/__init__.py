@@ -63,8 +63,8 @@ Python loop runs over points:
    side, look like scatter to the windows that measure the noise. Where the finer reading
    of 6. mends it too, that one is kept where it leaves fewer open or out (`rereading`).
 8. Where a clean reading still left outlines open, one ending far from every other line,
-   the scan is read again with other seeds of the thinning, and the first reading that
-   closes every outline is kept
+   the scan is read again with other seeds of the thinning, and the first reading at the
+   same radius that closes every outline is kept
    (`rereading.other_thinnings`): where walls run within the radius of each other, which
    centroids the thinning keeps decides whether the march steps across to the other wall.
 
