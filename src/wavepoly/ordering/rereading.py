@@ -15,8 +15,9 @@ from collections.abc import Callable
 from dataclasses import replace
 
 import numpy as np
+import shapely
 
-from ..geometry import mean_width, polyline_distance
+from ..geometry import curve_line, mean_width, polyline_distance
 from ..types import FloatArray, Ordering
 from .contours import clean_scan
 from .noise import HALO_SPREAD, noise_at
@@ -159,19 +160,18 @@ def _free_end(ordering: Ordering) -> bool:
     march broke (it turned back short of a slit's tip, or stopped where two walls' points
     mingle), not a network of strokes that meet at their junctions."""
     reach, own = FREE_END * ordering.radius, OWN_ARC * ordering.radius
-    lines = [np.vstack([c.points, c.points[:1]]) if c.closed else c.points
-             for c in ordering.contours]
+    lines = np.array([curve_line(c.points, c.closed) for c in ordering.contours], dtype=object)
     for k, c in enumerate(ordering.contours):
         if c.closed:
             continue
+        others = np.delete(lines, k)
         arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(c.points, axis=0),
                                                               axis=1))])
-        others = [line for j, line in enumerate(lines) if j != k and len(line) >= 2]
-        ends = ((c.points[0], arc >= own), (c.points[-1], arc <= arc[-1] - own))
-        for end, far in ends:
-            rest = [*others, c.points[far]] if far.sum() >= 2 else others
-            gaps = [polyline_distance(end[None], line, False)[0] for line in rest]
-            if min(gaps, default=np.inf) >= reach:
+        for end, far in ((c.points[0], arc >= own), (c.points[-1], arc <= arc[-1] - own)):
+            rest = others
+            if far.sum() >= 2:
+                rest = np.append(others, curve_line(c.points[far], False))
+            if shapely.distance(shapely.points(end), rest).min(initial=np.inf) >= reach:
                 return True
     return False
 
