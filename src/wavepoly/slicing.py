@@ -48,6 +48,7 @@ from .bands import (
     max_gap,
 )
 from .errors import DataError, ParameterError
+from .flat_faces import flat_faces, stack_ends
 from .geometry import to_plane
 from .parallel import resolve_workers, run_jobs
 from .polylines import fit_polylines
@@ -140,8 +141,9 @@ def slice_cloud(points3d: FloatArray, tolerance: float, *, axis: str | FloatArra
         hi = check_tolerance(max_layer if max_layer is not None else 20 * tolerance, "max_layer")
         if lo > hi:
             raise ParameterError(f"min_layer {lo:g} is thicker than max_layer {hi:g}")
-        plan = adaptive_layers(surface_samples(uvh),
-                               _Bounds(tolerance, lo, hi, band, relative_tolerance), progress)
+        surface = surface_samples(uvh)
+        plan = adaptive_layers(surface, _Bounds(tolerance, lo, hi, band, relative_tolerance),
+                               progress, flat_faces(surface, tolerance))
         bottoms = np.array([p[0] for p in plan])
         thick = np.array([p[1] for p in plan])
         fits = held_over([p[2] for p in plan], bottoms, bottoms + thick,
@@ -303,37 +305,76 @@ class _Bounds:
 
 
 def adaptive_layers(surface: SurfaceSamples, bounds: _Bounds,
-                    progress: Callable[[int, int], None] | None = None
+                    progress: Callable[[int, int], None] | None = None,
+                    faces: tuple[FloatArray, FloatArray] | None = None
                     ) -> list[tuple[float, float, FitResult]]:
     """(bottom, thickness, fit) of adaptive layers over a cloud sorted by height.
 
     Each layer starts from the previous thickness; it grows by `GROWTH` while its slab's
     staircase error stays within the tolerance (the section fitted within tolerance / 2) and
-    shrinks by the same factor when it does not, within [min_layer, max_layer].
+    shrinks by the same factor when it does not, within [min_layer, max_layer]. A layer
+    does not cross the ``faces`` (heights of flat faces across the axis and the thickness
+    that keeps a mid-plane clear of each, `wavepoly.flat_faces`): it ends on the next one,
+    or far enough short of it for the next layer to end on it, so that a face is one layer's
+    top and the next one's bottom; the stack starts and stops on the part's bottom and top
+    faces where it has them (`wavepoly.flat_faces.stack_ends`).
     """
-    height = surface.uvh[:, 2]
+    heights, clear = faces if faces is not None else (np.empty(0), np.empty(0))
+    z, top, inside = stack_ends(surface, heights, bounds.tolerance)
+    lo = bounds.min_layer
+    first = max([lo, *clear[heights == z]])  # the thinnest layer from here: on a face, more
+    # the faces to end on: those inside, and the top where it is one
+    land = inside | ((heights == top) & (top < surface.uvh[-1, 2]))
+    heights, need = heights[land], np.maximum(clear[land], lo)
+    start, t = z, bounds.max_layer
     plan: list[tuple[float, float, FitResult]] = []
-    z, top, t = float(height[0]), float(height[-1]), bounds.max_layer
-    total = max(1, int(np.ceil((top - z) / bounds.min_layer)))
+    total = max(1, int(np.ceil((top - z) / lo)))
     while z < top or not plan:
         below = plan[-1][2].contours if plan else None
+        k = _next_face(heights, need, z, first)
+        gap, near = (heights[k] - z, need[k]) if k >= 0 else (np.inf, lo)
+        hi = max(first, min(bounds.max_layer, gap))
+        t = _toward_face(min(max(t, first), hi), gap, near, first, hi)
         res, ok = _try_layer(surface, z, t, bounds, below)
         if ok:
-            while t < bounds.max_layer:
-                bigger = min(bounds.max_layer, t * GROWTH)
+            while t < hi:
+                bigger = _toward_face(min(hi, t * GROWTH), gap, near, first, hi)
+                if bigger <= t:  # only short of the face, which it already is
+                    break
                 res2, ok2 = _try_layer(surface, z, bigger, bounds, below)
                 if not ok2:
                     break
                 t, res = bigger, res2
         else:
-            while not ok and t > bounds.min_layer:
-                t = max(bounds.min_layer, t / GROWTH)
+            while not ok and t > first:
+                t = max(first, t / GROWTH)
                 res, ok = _try_layer(surface, z, t, bounds, below)
+        onto = _toward_face(t, gap, near, first, hi)
+        if onto != t:  # the next layer would straddle the face: this one ends on it
+            t, (res, _) = onto, _try_layer(surface, z, onto, bounds, below)
         plan.append((z, t, res))
-        z += t
+        on_face = t == gap
+        z, first = (heights[k], need[k]) if on_face else (z + t, lo)  # on it, not a ulp off
         if progress:
-            progress(min(total, int(np.ceil((z - height[0]) / bounds.min_layer))), total)
+            progress(min(total, int(np.ceil((z - start) / lo))), total)
     return plan
+
+
+def _next_face(heights: FloatArray, need: FloatArray, z: float, first: float) -> int:
+    """Index of the first face a layer starting at ``z`` could end on: at least ``first``
+    above it and the face's own ``need``; -1 where there is none."""
+    ahead = np.flatnonzero(heights >= z + np.maximum(need, first))
+    return int(ahead[0]) if len(ahead) else -1
+
+
+def _toward_face(t: float, gap: float, need: float, first: float, hi: float) -> float:
+    """Thickness ``t`` moved so that the layer ends on the face ``gap`` above it or leaves
+    at least the face's ``need`` to it (a thinner layer next to it would have its mid-plane
+    in the face's noise): up to the face where it may be that thick (``hi``), else short of
+    it, but no thinner than ``first``."""
+    if not 0 < gap - t < need:
+        return t
+    return gap if gap <= hi else max(first, gap - need)
 
 
 def _try_layer(surface: SurfaceSamples, bottom: float, thickness: float, bounds: _Bounds,
