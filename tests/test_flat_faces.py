@@ -83,6 +83,7 @@ def test_adaptive_layers_end_on_the_step_and_each_is_its_section():
     assert not ((bottoms < 1.0 - NOISE) & (tops > 1.0 + NOISE)).any()  # none straddles it
     assert np.abs(mids - 1.0).min() >= 3 * NOISE
     assert np.isclose(bottoms[0], 0.0, atol=NOISE) and np.isclose(tops[-1], 2.0, atol=NOISE)
+    assert any(n.startswith("3 flat face(s) across the axis") for n in res.notes)
     truth = np.where(mids < 1.0, 16.0, 4.0)
     perimeter = np.where(mids < 1.0, 16.0, 8.0)
     assert np.all(np.abs(_layer_areas(res) - truth) <= perimeter * EPS)
@@ -110,3 +111,4 @@ def test_uniform_layers_keep_their_thickness():
     """Only adaptive layers move to the faces: uniform ones are as thick as asked."""
     res = slice_cloud(stepped_block(10000), EPS, layer_thickness=0.3, workers=1)
     assert np.allclose([la.thickness for la in res.layers], 0.3)
+    assert not any("flat face" in n for n in res.notes)

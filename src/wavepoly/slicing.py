@@ -76,6 +76,8 @@ MAX_LAYERS = 100_000
 LAYER_COUNT_SLACK = 1e-9
 #: Adaptive thicknesses grow and shrink by this factor per trial (Wu et al. use a similar step).
 GROWTH = 1.25
+#: A note names this many flat faces' heights.
+FACES_SHOWN = 5
 #: A uniform layer's first band holds this many layers on either side of its slab (enough for
 #: the neighbourhoods of scans whose spacing is below a layer's thickness); it doubles for the
 #: layers whose slab points reach beyond it.
@@ -136,14 +138,16 @@ def slice_cloud(points3d: FloatArray, tolerance: float, *, axis: str | FloatArra
     t0 = time.perf_counter()
     uvh = to_plane(pts, basis)
     uvh = uvh[np.argsort(uvh[:, 2], kind="stable")]
+    faces = (np.empty(0), np.empty(0))  # flat faces across the axis: adaptive layers end on them
     if adaptive:
         lo = check_tolerance(min_layer if min_layer is not None else 2 * tolerance, "min_layer")
         hi = check_tolerance(max_layer if max_layer is not None else 20 * tolerance, "max_layer")
         if lo > hi:
             raise ParameterError(f"min_layer {lo:g} is thicker than max_layer {hi:g}")
         surface = surface_samples(uvh)
+        faces = flat_faces(surface, tolerance)
         plan = adaptive_layers(surface, _Bounds(tolerance, lo, hi, band, relative_tolerance),
-                               progress, flat_faces(surface, tolerance))
+                               progress, faces)
         bottoms = np.array([p[0] for p in plan])
         thick = np.array([p[1] for p in plan])
         fits = held_over([p[2] for p in plan], bottoms, bottoms + thick,
@@ -178,9 +182,12 @@ def slice_cloud(points3d: FloatArray, tolerance: float, *, axis: str | FloatArra
         np.searchsorted(uvh[:, 2], np.append(bottoms, bottoms[-1] + thick[-1])))
     timings["model_error"] = time.perf_counter() - t0
     engine = {"kind": "local", "workers": 1 if adaptive else resolve_workers(workers)}
-    return layer_model(bottoms, thick, fits, errors, counts,
-                       SliceResult([], basis, tolerance, adaptive, len(pts), timings,
-                                   engine=engine))
+    model = layer_model(bottoms, thick, fits, errors, counts,
+                        SliceResult([], basis, tolerance, adaptive, len(pts), timings,
+                                    engine=engine))
+    if len(faces[0]):
+        model = replace(model, notes=(*model.notes, _faces_note(faces[0])))
+    return model
 
 
 def _slab(uvh: FloatArray, job: ErrorJob) -> FloatArray:
@@ -404,6 +411,14 @@ def _trim_empty_ends(layers: list[Layer], tolerance: float) -> list[Layer]:
     while hi - lo > 1 and empty(layers[lo]):
         lo += 1
     return layers[lo:hi]
+
+
+def _faces_note(heights: FloatArray) -> str:
+    """What the adaptive plan made of the flat faces across the axis."""
+    shown = ", ".join(f"{h:.4g}" for h in heights[:FACES_SHOWN])
+    more = f" and {len(heights) - FACES_SHOWN} more" if len(heights) > FACES_SHOWN else ""
+    return (f"{len(heights)} flat face(s) across the axis, at {shown}{more}: adaptive layers "
+            "end on them (the stack on the part's bottom and top faces)")
 
 
 def _notes(layers: list[Layer], tolerance: float) -> list[str]:
