@@ -41,8 +41,8 @@ FACE_TILT = 10.0
 FACE_GAP = 0.5
 #: A face's middle half spans at most this many tolerances of height (its interquartile
 #: range; Gaussian noise of a fifth of the tolerance gives 0.27, the turbine blade's faces,
-#: with a fillet's tail below one, 0.09-0.17): a shallow dome or a gently sloping back has flat
-#: normals over a wider range of heights, and no one height to end a layer on.
+#: with a fillet along one, 0.28-0.47): a gently sloping back has flat normals over a wider
+#: range of heights, and no one height to end a layer on.
 FACE_SPREAD = 1.0
 #: A face within this many tolerances of the cloud's lowest or highest point is the part's
 #: bottom or top (a cap): only its own noise lies beyond it, up to 0.9 tolerances on the
@@ -62,14 +62,13 @@ FACE_SIGMAS = 3.0
 #: uneven base 0.013-0.02. A layer ended there would cut a curved surface, not a face.
 FACE_SLOPE = 0.012
 #: A face is at least this many tolerances across (the middle 90 % of its points each way):
-#: the top of a dome has normals within `FACE_TILT` of the axis over a disk a sixth of its
-#: radius across, the bunny's ear tips 1-2 tolerances, and no face to end a layer on; the
-#: turbine blade's root faces are some 80 across.
+#: the turbine blade's faces are 57-100 across; the tip of a small bump, whose few normals
+#: along the axis lie on a disk a third of its radius across, is no face to end a layer on.
 FACE_WIDTH = 10.0
 #: A Gaussian's interquartile range in standard deviations.
 IQR_SIGMAS = 1.349
 #: A face holds at least this share of the cloud's points: the turbine blade's root faces
-#: hold 2.3 % and 7 %, its top 0.6 %; a few flat normals on a curved surface are no face.
+#: hold 2.6 % and 7.5 %, its top 0.6 %; a few flat normals on a curved surface are no face.
 FACE_SHARE = 0.002
 
 

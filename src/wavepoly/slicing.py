@@ -13,7 +13,8 @@ Uniform layers have one thickness. Adaptive layers (Wu, Wong, Loh & Zhang 2004) 
 as the shape allows: a candidate layer's section is fitted within tolerance / 2 and the layer
 is accepted when the staircase error of its slab stays within the tolerance; the thickness
 grows from the previous layer's while that holds and shrinks when it fails, between
-``min_layer`` and ``max_layer``.
+``min_layer`` and ``max_layer``; they end on the flat faces across the axis, so that no
+mid-plane lies in a face's points (`wavepoly.flat_faces`).
 
 Layers are independent once planned: `wavepoly.bands.fit_layer_job` is a pure function of a
 `LayerJob` (the layer's parameters and its band of the cloud), run here in a local process pool
