@@ -29,7 +29,7 @@ def _sides(rng, half, z0, z1, n):
     return np.column_stack([x, y, h])
 
 
-def stepped_block(n=30000, seed=0):
+def stepped_block(n=20000, seed=0):
     """A 4 x 4 x 1 block with a 2 x 2 x 1 block on it, sampled about evenly by area with
     Gaussian noise: its step (the wide block's top round the narrow one) is at height 1."""
     rng = np.random.default_rng(seed)

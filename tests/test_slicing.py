@@ -64,7 +64,7 @@ def test_uniform_layers_of_a_tube_have_holes_and_stay_within_tolerance():
 
 def test_adaptive_layers_are_thick_where_the_surface_is_vertical():
     """On a sphere the wall is vertical at the equator and flat at the poles."""
-    pts = sphere()
+    pts = sphere(30000)
     res = slice_cloud(pts, 0.1, adaptive=True, min_layer=0.2, max_layer=3.0, workers=1)
     z = np.array([la.z for la in res.layers])
     thick = np.array([la.thickness for la in res.layers])
