@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .sections import quadric_fit, quadric_terms
 from .types import FloatArray, SurfaceSamples
 
 #: A point is on a face across the axis when its normal is within this many degrees of the
@@ -103,12 +104,16 @@ def flat_faces(surface: SurfaceSamples, tolerance: float) -> tuple[FloatArray, F
     flat = flat[np.argsort(flat[:, 2], kind="stable")]
     cuts = np.flatnonzero(np.diff(flat[:, 2]) > FACE_GAP * tolerance) + 1
     least = FACE_SHARE * len(surface.uvh)
-    faces = [g for g in np.split(flat, cuts) if len(g) >= least
-             and _spread(g[:, 2]) <= FACE_SPREAD * tolerance
-             and _across(g[:, :2]) >= FACE_WIDTH * tolerance
-             and _shape_span(g) <= FACE_SLOPE * _across(g[:, :2])]
-    return (np.array([float(np.median(g[:, 2])) for g in faces]),
-            np.array([2 * FACE_SIGMAS * _spread(g[:, 2]) / IQR_SIGMAS for g in faces]))
+    heights, clear = [], []
+    for group in np.split(flat, cuts):
+        if len(group) < least:
+            continue
+        spread, across = _spread(group[:, 2]), _across(group[:, :2])
+        if (spread <= FACE_SPREAD * tolerance and across >= FACE_WIDTH * tolerance
+                and _shape_span(group) <= FACE_SLOPE * across):
+            heights.append(float(np.median(group[:, 2])))
+            clear.append(2 * FACE_SIGMAS * spread / IQR_SIGMAS)
+    return np.array(heights), np.array(clear)
 
 
 def stack_ends(surface: SurfaceSamples, faces: FloatArray, tolerance: float
@@ -138,9 +143,9 @@ def _shape_span(group: FloatArray) -> float:
     """The height a quadratic fitted to a group's heights over its plane coordinates spans
     between its 5th and 95th percentile: the group's own shape, not its noise."""
     u, v = (group[:, :2] - group[:, :2].mean(axis=0)).T
-    terms = np.column_stack([np.ones_like(u), u, v, u * u, v * v, u * v])
-    coef, *_ = np.linalg.lstsq(terms, group[:, 2], rcond=None)
-    low, high = np.percentile(terms @ coef, [5, 95])
+    terms = quadric_terms(u, v)
+    coef, _ = quadric_fit(terms[None], group[None, :, 2])
+    low, high = np.percentile(terms @ coef[0], [5, 95])
     return float(high - low)
 
 

@@ -194,8 +194,8 @@ def _refine_shallow(nodes: FloatArray, tree: cKDTree, which: IntArray,
         dist, idx = tree.query(nodes[which[rows]], k=k)
         nbr = nodes[idx]
         rel = nbr - nodes[which[rows]][:, None, :]
-        a = _quadric_terms(rel[..., 0], rel[..., 1])
-        coef, inverse = _quadric_fit(a, rel[..., 2])
+        a = quadric_terms(rel[..., 0], rel[..., 1])
+        coef, inverse = quadric_fit(a, rel[..., 2])
         resid = rel[..., 2] - np.einsum("nki,ni->nk", a, coef)
         noise = np.einsum("nk,nk->n", resid, resid) / (k - 6)
         grad = coef[:, 1:3]
@@ -226,16 +226,16 @@ def _quadric_offset(centred: FloatArray, own: FloatArray, axes: FloatArray) -> F
     the centroid of a curved wall lies about r^2 / 6R inside it)."""
     local = np.einsum("nki,nij->nkj", centred, axes)  # (normal, minor, major) coordinates
     mine = np.einsum("ni,nij->nj", own, axes)
-    coef, _ = _quadric_fit(_quadric_terms(local[..., 2], local[..., 1]), local[..., 0])
-    return mine[:, 0] - np.einsum("ni,ni->n", _quadric_terms(mine[:, 2], mine[:, 1]), coef)
+    coef, _ = quadric_fit(quadric_terms(local[..., 2], local[..., 1]), local[..., 0])
+    return mine[:, 0] - np.einsum("ni,ni->n", quadric_terms(mine[:, 2], mine[:, 1]), coef)
 
 
-def _quadric_terms(x: FloatArray, y: FloatArray) -> FloatArray:
+def quadric_terms(x: FloatArray, y: FloatArray) -> FloatArray:
     """The terms 1, x, y, x^2, xy, y^2 of a quadric, stacked on a last axis."""
     return np.stack([np.ones_like(x), x, y, x * x, x * y, y * y], axis=-1)
 
 
-def _quadric_fit(terms: FloatArray, h: FloatArray) -> tuple[FloatArray, FloatArray]:
+def quadric_fit(terms: FloatArray, h: FloatArray) -> tuple[FloatArray, FloatArray]:
     """Least-squares quadric of each neighbourhood, ``h`` over its (n, k, 6) ``terms``: the
     (n, 6) coefficients and the inverses of the (ridged) normal equations, whose diagonal
     scales the coefficients' variances."""
