@@ -97,7 +97,7 @@ def fit_layer_job(job: LayerJob) -> FitResult | None:
     if rows.stop > rows.start:
         surface = surface_samples(uvh, SURFACE_NEIGHBOURS, rows)
         h = surface.uvh[:, 2]
-        complete = (h - surface.radius >= spec.low) & (h + surface.radius <= spec.high)
+        complete = (h - surface.support >= spec.low) & (h + surface.support <= spec.high)
         if not np.all(complete):
             return None
         section = section_points(surface, slice(None), spec.z)

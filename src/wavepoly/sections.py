@@ -19,8 +19,12 @@ tangent (a shallow surface curves within its slide: the tangent of a ridge's fla
 a plane that the ridge's crest stays below, and joined an ear to the bunny's head). A point is only
 moved where its own neighbourhood straddles the mid-plane (the surface it stands for is known
 there), so a cap or a ledge inside the slab that does not cross the mid-plane gives no section
-points, and nothing is extrapolated past an end of the object. Thus a band becomes a line
-of points with the scan's noise, which the fit turns into the section within ε.
+points, and nothing is extrapolated past an end of the object. Beside an edge (a box's
+vertical corner, a step's rim) a point's neighbourhood lies on two faces and its plane is
+neither: such a point takes the plane of a flatter neighbourhood nearby that it lies on, so
+that the section runs into the corner instead of cutting it (Fleishman et al.). Thus a band
+becomes a line of points with the scan's noise, which the fit turns into the section within
+ε.
 
 This was chosen over weighting the points nearest to the mid-plane because it uses every
 point whose surface crosses the plane, corrects the first-order offset of sloped
@@ -35,9 +39,13 @@ References
    local least-squares plane).
 .. [3] Y. F. Wu, Y. S. Wong, H. T. Loh and Y. F. Zhang, "Modelling cloud data using an
    adaptive slicing approach", Computer-Aided Design 36(3), 2004, pp. 231-240.
+.. [4] S. Fleishman, D. Cohen-Or and C. T. Silva, "Robust moving least-squares fitting with
+   sharp features", ACM Trans. Graphics 24(3), 2005, pp. 544-552.
 """
 
 from __future__ import annotations
+
+from typing import NamedTuple
 
 import numpy as np
 from scipy.spatial import cKDTree
@@ -94,6 +102,18 @@ SNAP = 1e-9
 #: faces'): their points would slide the wrong way, so they give no section points. Noise alone
 #: gives about (2 sigma / radius)^2, 0.1 at 0.1 % noise.
 MAX_FLATNESS = 0.25
+#: A neighbourhood whose flatness is this many times what its noise alone gives straddles an
+#: edge: on the stepped block of the tests (noise ε / 5) its faces' neighbourhoods measure 1.2
+#: times (median; 95 % below 1.9), and a noisy ridge's 95 % below 2.1; those within a quarter
+#: of a radius of an edge 4.7 (95 % above 2.1), within half a radius 2.5.
+EDGE_FLATNESS = 2.0
+#: A point beside an edge takes a neighbour's plane only where that neighbourhood's flatness
+#: is below this share of its own (the block's sections are the same from 0.3 to 0.7).
+SHIFT_FLATNESS = 0.5
+#: ... and where it lies on that plane, within this many of the noise (the residuals of the
+#: neighbour's quadric): a point on the other face of an edge lies off it by its distance
+#: from the edge (the block's sections are the same from 2 to 4).
+ON_PLANE = 3.0
 #: Largest slide along the surface, in neighbourhood radii: the tangent plane is a fair model
 #: of the surface over about its neighbourhood, not much farther.
 MAX_SLIDE = 2.0
@@ -104,9 +124,12 @@ def surface_samples(uvh: FloatArray, k: int = SURFACE_NEIGHBOURS,
     """Tangent planes and neighbourhood extents of a cloud in plane coordinates (u, v, height).
 
     Each tangent plane is fitted to the ``k`` nearest neighbours of a point (Hoppe et al.).
-    A scan sampled more densely than its noise allows (its median neighbourhood is not
-    planar, see `NOISE_FLATNESS`) is thinned first to every 2nd, 4th... point (in the
-    given order), and only the points kept are described: the density its noise supports.
+    Near an edge of the object a point's own neighbourhood straddles two faces; the point
+    then takes the tangent plane of the flattest neighbourhood among its neighbours' that it
+    lies on (`_shifted`): one on its own face. A scan sampled more densely than its noise
+    allows (its median neighbourhood is not planar, see `NOISE_FLATNESS`) is thinned first
+    to every 2nd, 4th... point (in the given order), and only the points kept are described:
+    the density its noise supports.
 
     Parameters
     ----------
@@ -114,15 +137,27 @@ def surface_samples(uvh: FloatArray, k: int = SURFACE_NEIGHBOURS,
     k : neighbours per point for its tangent plane.
     rows : the points to describe (default: all); their neighbours are sought among all of
         ``uvh``.
+
+    References
+    ----------
+    .. [1] S. Fleishman, D. Cohen-Or and C. T. Silva, "Robust moving least-squares fitting
+       with sharp features", ACM Trans. Graphics 24(3), 2005, pp. 544-552 (a point near an
+       edge takes the fit of a neighbourhood that lies on one side of it).
     """
     k = max(3, min(k, len(uvh)))
     step, tree = node_step(uvh, k)
     nodes = uvh[::step]
     own = np.arange(len(uvh))[rows if rows is not None else slice(None)]
     own = own[own % step == 0] // step
-    planes = _planes(nodes, tree, own, min(k, len(nodes)))
+    k = min(k, len(nodes))
+    near = _neighbours(nodes, tree, own, k)
+    fitted, where = np.unique(np.append(near.ravel(), own), return_inverse=True)
+    fits = _fits(nodes, tree, fitted, k)
+    planes, support = _shifted(nodes[own], fits, where[near.size:], where[:near.size]
+                               .reshape(near.shape), nodes[fitted, 2])
     score, bend = _refine_shallow(nodes, tree, own, planes, min(WIDE_FACTOR * k, len(nodes)))
-    return SurfaceSamples(nodes[own], *planes, score, bend)
+    support = np.maximum(support, planes[3])
+    return SurfaceSamples(nodes[own], *planes, score, bend, support)
 
 
 def node_step(uvh: FloatArray, k: int = SURFACE_NEIGHBOURS) -> tuple[int, cKDTree]:
@@ -146,31 +181,99 @@ def node_step(uvh: FloatArray, k: int = SURFACE_NEIGHBOURS) -> tuple[int, cKDTre
 
 def _median_flatness(nodes: FloatArray, tree: cKDTree, k: int) -> float:
     sample = np.arange(0, len(nodes), max(1, len(nodes) // FLATNESS_SAMPLE))
-    return float(np.median(_planes(nodes, tree, sample, min(k, len(nodes)))[4]))
+    return float(np.median(_fits(nodes, tree, sample, min(k, len(nodes))).flatness))
 
 
-def _planes(nodes: FloatArray, tree: cKDTree, which: IntArray, k: int
-            ) -> tuple[FloatArray, ...]:
-    """Normal, neighbourhood height range (low, high), radius and flatness of the tangent
-    planes at ``nodes[which]`` from their ``k`` nearest nodes."""
+class _Fits(NamedTuple):
+    """The local fits of some points' neighbourhoods: tangent plane (unit normal), height
+    range, radius, flatness and each point's offset from its quadric (as in
+    `SurfaceSamples`), the neighbourhood's centroid, and the root-mean-square of its quadric's
+    residuals (the noise, where the surface is smooth)."""
+
+    normals: FloatArray
+    low: FloatArray
+    high: FloatArray
+    radius: FloatArray
+    flatness: FloatArray
+    offset: FloatArray
+    centroid: FloatArray
+    rms: FloatArray
+
+
+def _neighbours(nodes: FloatArray, tree: cKDTree, which: IntArray, k: int) -> IntArray:
+    """The ``k`` nearest nodes of ``nodes[which]``, nearest first."""
+    near = np.empty((len(which), k), dtype=np.intp)
+    for start in range(0, len(which), CHUNK):
+        stop = min(len(which), start + CHUNK)
+        near[start:stop] = tree.query(nodes[which[start:stop]], k=k)[1].reshape(-1, k)
+    return near
+
+
+def _fits(nodes: FloatArray, tree: cKDTree, which: IntArray, k: int) -> _Fits:
+    """The local fits (`_Fits`) of ``nodes[which]`` from their ``k`` nearest nodes."""
     n = len(which)
-    normals = np.empty((n, 3))
-    low, high, radius, flatness, offset = (np.empty(n) for _ in range(5))
+    normals, centroid = np.empty((n, 3)), np.empty((n, 3))
+    low, high, radius, flatness, offset, rms = (np.empty(n) for _ in range(6))
     for start in range(0, n, CHUNK):
         stop = min(n, start + CHUNK)
         dist, idx = tree.query(nodes[which[start:stop]], k=k)
+        dist, idx = dist.reshape(-1, k), idx.reshape(-1, k)
         nbr = nodes[idx]
-        centred = nbr - nbr.mean(axis=1, keepdims=True)
+        centroid[start:stop] = nbr.mean(axis=1)
+        centred = nbr - centroid[start:stop, None]
         cov = np.einsum("nki,nkj->nij", centred, centred)
-        values, vectors = np.linalg.eigh(cov)
-        normals[start:stop] = vectors[:, :, 0]  # the smallest principal axis
+        values, axes = np.linalg.eigh(cov)
+        normals[start:stop] = axes[:, :, 0]  # the smallest principal axis
         flatness[start:stop] = values[:, 0] / np.maximum(values[:, 1], 1e-300)
         low[start:stop] = nbr[:, :, 2].min(axis=1)
         high[start:stop] = nbr[:, :, 2].max(axis=1)
         radius[start:stop] = dist[:, -1]
-        offset[start:stop] = _quadric_offset(centred, nodes[which[start:stop]]
-                                             - nbr.mean(axis=1), vectors)
-    return normals, low, high, radius, flatness, offset
+        coef, rms[start:stop] = _local_quadric(centred, axes)
+        offset[start:stop] = _above_quadric(nodes[which[start:stop]] - centroid[start:stop],
+                                            axes, coef)
+    return _Fits(normals, low, high, radius, flatness, offset, centroid, rms)
+
+
+def _shifted(points: FloatArray, fits: _Fits, mine: IntArray, near: IntArray,
+             heights: FloatArray) -> tuple[tuple[FloatArray, ...], FloatArray]:
+    """The tangent planes of ``points`` (normal, height range, radius, flatness, offset):
+    each point's own, or beside an edge the plane of the flattest neighbourhood among its
+    neighbours' that it lies on (Fleishman et al.).
+
+    ``fits`` are the fits of the points and their neighbours; ``mine`` (n,) each point's row in
+    them, ``near`` (n, k) its neighbours' rows; ``heights`` the fitted points' heights. A
+    point is beside an edge where its neighbourhood is far less planar than its noise explains
+    (`EDGE_FLATNESS`). It takes a neighbour's plane where that one is clearly flatter
+    (`SHIFT_FLATNESS`), the point lies within its neighbourhood and on its plane (`ON_PLANE`):
+    on the same face. Its offset is then its height above that plane. Also returns each
+    point's support: the half-height about it of all the points its plane depended on (its
+    neighbours' neighbourhoods).
+    """
+    planes = [a[mine].copy() for a in fits[:6]]
+    normals, low, high, radius, flatness, offset = planes
+    flat = fits.flatness[near]
+    support = np.max(np.abs(heights[near] - points[:, 2:3]) + fits.radius[near], axis=1)
+    # noise alone gives a neighbourhood the flatness 4 sigma^2 / r^2 (a disk's variance along
+    # a diameter is r^2 / 4), sigma the residual of its quadric; one that bends sharply within
+    # it (an edge) is far less planar than that, though a quadric follows part of the bend
+    noise = 4.0 * (fits.rms[mine] / np.maximum(radius, 1e-300)) ** 2
+    rows = np.flatnonzero((flatness > EDGE_FLATNESS * noise)
+                          & (flat.min(axis=1) < SHIFT_FLATNESS * flatness))
+    for start in range(0, len(rows), CHUNK):
+        sub = rows[start:start + CHUNK]
+        nb = near[sub]
+        rel = points[sub, None, :] - fits.centroid[nb]
+        off = np.einsum("nki,nki->nk", rel, fits.normals[nb])  # above the neighbour's plane
+        inside = np.einsum("nki,nki->nk", rel, rel) <= fits.radius[nb] ** 2
+        lies = (inside & (np.abs(off) <= ON_PLANE * fits.rms[nb])
+                & (flat[sub] < SHIFT_FLATNESS * flatness[sub, None]))
+        best = np.argmin(np.where(lies, flat[sub], np.inf), axis=1)
+        took = lies[np.arange(len(sub)), best]
+        sub, q = sub[took], nb[took, best[took]]
+        normals[sub], offset[sub] = fits.normals[q], off[took.nonzero()[0], best[took]]
+        low[sub], high[sub] = fits.low[q], fits.high[q]
+        radius[sub], flatness[sub] = fits.radius[q], fits.flatness[q]
+    return tuple(planes), support
 
 
 def _refine_shallow(nodes: FloatArray, tree: cKDTree, which: IntArray,
@@ -182,7 +285,7 @@ def _refine_shallow(nodes: FloatArray, tree: cKDTree, which: IntArray,
     a plane at a shallow angle only when its slope stands out of the noise; and the
     quadric's second-order term along its slope (0 elsewhere): a shallow surface bends
     within the distance that it slides (a ridge's crest, a dome's top)."""
-    normals, low, high, radius, _, offset = planes
+    normals, low, high, radius, flatness, offset = planes
     score = np.full(len(which), np.inf)
     bend = np.zeros(len(which))
     shallow = np.flatnonzero(1.0 - normals[:, 2] ** 2 < MIN_STEEPNESS**2)
@@ -213,21 +316,34 @@ def _refine_shallow(nodes: FloatArray, tree: cKDTree, which: IntArray,
         low[rows], high[rows] = nbr[:, :, 2].min(axis=1), nbr[:, :, 2].max(axis=1)
         radius[rows] = dist[:, -1]
     # a height field that fits far worse than the shallow surfaces' typical one spans an edge
-    # (a cap and the wall under it): its slope is the edge's, not a surface's
-    score[shallow[residual > EDGE_RESIDUAL * np.median(residual)]] = 0.0
+    # (a cap and the wall under it): its normal is the edge's, not a surface's, and gives no
+    # section point
+    edge = shallow[residual > EDGE_RESIDUAL * np.median(residual)]
+    score[edge], flatness[edge] = 0.0, np.inf
     return score, bend
 
 
-def _quadric_offset(centred: FloatArray, own: FloatArray, axes: FloatArray) -> FloatArray:
-    """Each point's height above the least-squares quadric of its neighbourhood, along the
-    normal (``centred``: (n, k, 3) neighbours about their centroid; ``own``: (n, 3) the point
-    about it; ``axes``: principal axes, the normal first). A quadric rather than the plane, so
-    that projecting a point onto it removes the noise and not the curvature (the plane through
-    the centroid of a curved wall lies about r^2 / 6R inside it)."""
+def _local_quadric(centred: FloatArray, axes: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """The least-squares quadric of each neighbourhood (``centred``: (n, k, 3) about its
+    centroid; ``axes``: its principal axes, the normal first), as the height along the normal
+    over the major and minor axes: its (n, 6) coefficients and the root-mean-square of its
+    residuals. A quadric rather than the plane, so that projecting a point onto it removes the
+    noise and not the curvature (the plane through the centroid of a curved wall lies about
+    r^2 / 6R inside it)."""
     local = np.einsum("nki,nij->nkj", centred, axes)  # (normal, minor, major) coordinates
-    mine = np.einsum("ni,nij->nj", own, axes)
-    coef, _ = quadric_fit(quadric_terms(local[..., 2], local[..., 1]), local[..., 0])
-    return mine[:, 0] - np.einsum("ni,ni->n", quadric_terms(mine[:, 2], mine[:, 1]), coef)
+    terms = quadric_terms(local[..., 2], local[..., 1])
+    coef, _ = quadric_fit(terms, local[..., 0])
+    resid = local[..., 0] - np.einsum("nki,ni->nk", terms, coef)
+    dof = max(1, local.shape[1] - 6)
+    return coef, np.sqrt(np.einsum("nk,nk->n", resid, resid) / dof)
+
+
+def _above_quadric(rel: FloatArray, axes: FloatArray, coef: FloatArray) -> FloatArray:
+    """Heights of points above quadrics (``rel``: (n, 3) each point about its quadric's
+    centroid; ``axes``, ``coef`` as from `_local_quadric`), along the quadrics' normal axes."""
+    local = np.einsum("ni,nij->nj", rel, axes)
+    terms = quadric_terms(local[:, 2], local[:, 1])
+    return local[:, 0] - np.einsum("ni,ni->n", terms, coef)
 
 
 def quadric_terms(x: FloatArray, y: FloatArray) -> FloatArray:

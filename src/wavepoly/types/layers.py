@@ -19,7 +19,9 @@ class SurfaceSamples:
     slope_score: where the surface is shallow, its slope over the slope's standard error
     (from a wider neighbourhood, which then also gives the other fields); inf where steep;
     bend: where shallow, the height field's second-order term along its steepest direction
-    (height ≈ slope · s + bend · s² at a distance s up the slope), 0 where steep.
+    (height ≈ slope · s + bend · s² at a distance s up the slope), 0 where steep; support:
+    the half-height about each point of all the points its fields depend on (its neighbours'
+    neighbourhoods, or its wider one where shallow).
     """
 
     uvh: FloatArray
@@ -31,6 +33,7 @@ class SurfaceSamples:
     offset: FloatArray
     slope_score: FloatArray
     bend: FloatArray
+    support: FloatArray
 
 
 @dataclass(frozen=True)
