@@ -151,10 +151,17 @@ def surface_samples(uvh: FloatArray, k: int = SURFACE_NEIGHBOURS,
     own = own[own % step == 0] // step
     k = min(k, len(nodes))
     near = _neighbours(nodes, tree, own, k)
+    # the points and their neighbours are fitted, each from its own neighbours (known for
+    # the points, sought for the rest)
     fitted, where = np.unique(np.append(near.ravel(), own), return_inverse=True)
-    fits = _fits(nodes, tree, fitted, k)
-    planes, support = _shifted(nodes[own], fits, where[near.size:], where[:near.size]
-                               .reshape(near.shape), nodes[fitted, 2])
+    mine = where[near.size:]
+    fitted_near = np.empty((len(fitted), k), dtype=np.intp)
+    fitted_near[mine] = near
+    rest = np.setdiff1d(np.arange(len(fitted)), mine)
+    fitted_near[rest] = _neighbours(nodes, tree, fitted[rest], k)
+    fits = _fits(nodes, fitted, fitted_near)
+    planes, support = _shifted(nodes[own], fits, mine, where[:near.size].reshape(near.shape),
+                               nodes[fitted, 2])
     score, bend = _refine_shallow(nodes, tree, own, planes, min(WIDE_FACTOR * k, len(nodes)))
     support = np.maximum(support, planes[3])
     return SurfaceSamples(nodes[own], *planes, score, bend, support)
@@ -181,7 +188,8 @@ def node_step(uvh: FloatArray, k: int = SURFACE_NEIGHBOURS) -> tuple[int, cKDTre
 
 def _median_flatness(nodes: FloatArray, tree: cKDTree, k: int) -> float:
     sample = np.arange(0, len(nodes), max(1, len(nodes) // FLATNESS_SAMPLE))
-    return float(np.median(_fits(nodes, tree, sample, min(k, len(nodes))).flatness))
+    near = _neighbours(nodes, tree, sample, min(k, len(nodes)))
+    return float(np.median(_fits(nodes, sample, near).flatness))
 
 
 class _Fits(NamedTuple):
@@ -209,16 +217,15 @@ def _neighbours(nodes: FloatArray, tree: cKDTree, which: IntArray, k: int) -> In
     return near
 
 
-def _fits(nodes: FloatArray, tree: cKDTree, which: IntArray, k: int) -> _Fits:
-    """The local fits (`_Fits`) of ``nodes[which]`` from their ``k`` nearest nodes."""
+def _fits(nodes: FloatArray, which: IntArray, near: IntArray) -> _Fits:
+    """The local fits (`_Fits`) of ``nodes[which]`` from their nearest nodes ``near`` (n, k),
+    nearest first."""
     n = len(which)
     normals, centroid = np.empty((n, 3)), np.empty((n, 3))
     low, high, radius, flatness, offset, rms = (np.empty(n) for _ in range(6))
     for start in range(0, n, CHUNK):
         stop = min(n, start + CHUNK)
-        dist, idx = tree.query(nodes[which[start:stop]], k=k)
-        dist, idx = dist.reshape(-1, k), idx.reshape(-1, k)
-        nbr = nodes[idx]
+        nbr = nodes[near[start:stop]]
         centroid[start:stop] = nbr.mean(axis=1)
         centred = nbr - centroid[start:stop, None]
         cov = np.einsum("nki,nkj->nij", centred, centred)
@@ -227,7 +234,7 @@ def _fits(nodes: FloatArray, tree: cKDTree, which: IntArray, k: int) -> _Fits:
         flatness[start:stop] = values[:, 0] / np.maximum(values[:, 1], 1e-300)
         low[start:stop] = nbr[:, :, 2].min(axis=1)
         high[start:stop] = nbr[:, :, 2].max(axis=1)
-        radius[start:stop] = dist[:, -1]
+        radius[start:stop] = np.linalg.norm(nbr[:, -1] - nodes[which[start:stop]], axis=1)
         coef, rms[start:stop] = _local_quadric(centred, axes)
         offset[start:stop] = _above_quadric(nodes[which[start:stop]] - centroid[start:stop],
                                             axes, coef)
