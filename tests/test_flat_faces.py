@@ -6,6 +6,7 @@ import shapely
 
 import wavepoly.slicing as slicing
 from wavepoly import slice_cloud
+from wavepoly.bands import IN_A_FACE
 from wavepoly.flat_faces import flat_faces, stack_ends
 from wavepoly.sections import surface_samples
 
@@ -111,4 +112,38 @@ def test_uniform_layers_keep_their_thickness():
     """Only adaptive layers move to the faces: uniform ones are as thick as asked."""
     res = slice_cloud(stepped_block(10000), EPS, layer_thickness=0.3, workers=1)
     assert np.allclose([la.thickness for la in res.layers], 0.3)
-    assert not any("flat face" in n for n in res.notes)
+    assert not any("adaptive layers end on them" in n for n in res.notes)
+
+
+def _uniform_in_faces(monkeypatch=None):
+    """Uniform layers 0.1 thick from the block's lowest point: the first and the eleventh
+    have their mid-planes 0.017 above the bottom face and the step, in their noise (σ 0.01)."""
+    res = slice_cloud(stepped_block(), EPS, layer_thickness=0.1, workers=1)
+    first, step = res.layers[0], res.layers[10]
+    assert abs(first.z) < 3 * NOISE and abs(step.z - 1.0) < 3 * NOISE
+    return res, first, step
+
+
+def test_a_uniform_layer_in_a_face_takes_its_larger_parts_section():
+    """The step's layer draws the narrow block (area 4), the bottom layer the wide one (16),
+    each a clean square; the others are untouched, the top one too: its mid-plane lies in the
+    top face's noise, but beyond the face it holds that noise alone."""
+    res, first, step = _uniform_in_faces()
+    for layer, area, perimeter in ((first, 16.0, 16.0), (step, 4.0, 8.0)):
+        assert any(IN_A_FACE in n for n in layer.fit.notes)
+        (contour,) = layer.fit.contours
+        assert contour.closed and abs(abs(contour.signed_area) - area) < perimeter * EPS
+        assert len(contour.vertices) <= 10
+    moved = [la for la in res.layers if any(IN_A_FACE in n for n in la.fit.notes)]
+    assert len(moved) == 2 and any("flat face's points" in n for n in res.notes)
+
+
+def test_at_its_mid_plane_the_steps_layer_zigzags(monkeypatch):
+    """The test above can fail: at the mid-plane, in the step's noise, the section mixes the
+    face's points with the walls' (measured: 56 vertices)."""
+    import wavepoly.bands as bands
+
+    monkeypatch.setattr(bands, "section_height", lambda s, bottom, top, tol:
+                        (0.5 * (bottom + top), None))
+    _, first, step = _uniform_in_faces()
+    assert sum(len(c.vertices) for c in step.fit.contours) > 20

@@ -22,6 +22,7 @@ import numpy as np
 
 from .errors import DataError
 from .fit import fit
+from .flat_faces import section_height
 from .geometry import mean_width, nest_contours, orient_by_depth, polyline_length
 from .polylines import close_gaps
 from .sections import SURFACE_NEIGHBOURS, section_points, surface_samples
@@ -58,6 +59,10 @@ END_FACE_REACH = 2.0
 #: wholly outside (13 tolerances in the raw bunny scans).
 END_FACE_STRAYS = 0.01
 
+#: How a layer's fit says that its section was moved off its mid-plane, which lies in a flat
+#: face's points (`wavepoly.flat_faces.section_height`).
+IN_A_FACE = "the mid-plane lies in a flat face's points"
+
 
 def max_gap(thickness: float, tolerance: float) -> float:
     """The widest gap in a layer's section that is bridged (see `GAP_LAYERS`)."""
@@ -93,15 +98,21 @@ def fit_layer_job(job: LayerJob) -> FitResult | None:
     narrow for some slab point's neighbourhood (the caller sends a wider one)."""
     spec, uvh = job.spec, job.points
     rows = section_rows(uvh[:, 2], spec)
-    section = np.empty((0, 2))
+    section, face = np.empty((0, 2)), None
     if rows.stop > rows.start:
         surface = surface_samples(uvh, SURFACE_NEIGHBOURS, rows)
         h = surface.uvh[:, 2]
         complete = (h - surface.support >= spec.low) & (h + surface.support <= spec.high)
         if not np.all(complete):
             return None
-        section = section_points(surface, slice(None), spec.z)
-    return fit_layer(section, spec.tolerance, spec.relative_tolerance, spec.z, spec.max_gap)
+        height, face = section_height(surface, spec.bottom, spec.bottom + spec.thickness,
+                                      spec.tolerance)
+        section = section_points(surface, slice(None), height)
+    res = fit_layer(section, spec.tolerance, spec.relative_tolerance, spec.z, spec.max_gap)
+    if face is not None:
+        res = replace(res, notes=(*res.notes, f"{IN_A_FACE} (at {face:.6g}): the section "
+                                  f"is taken at {height:.6g}"))
+    return res
 
 
 def fit_layer(points: FloatArray, tolerance: float, relative_tolerance: float | None,

@@ -8,7 +8,9 @@ Its staircase error is also large wherever the face is not on a layer boundary.
 
 So adaptive layers end on the faces, as layer-based models for rapid prototyping do: a face
 is then the top of one layer and the bottom of the next, and neither mid-plane lies in it.
-Uniform layers keep the thickness they were asked for.
+Uniform layers keep the thickness they were asked for; where a face falls so near a
+uniform layer's mid-plane that the plane lies in its noisy points, the layer's section is
+taken in the middle of its larger part beside the face instead (`section_height`).
 
 The faces are found from the cloud's own surface normals (`wavepoly.sections.surface_samples`).
 The points whose normal lies within `FACE_TILT` of the axis are sorted by height and split
@@ -66,6 +68,10 @@ FACE_SLOPE = 0.012
 #: the turbine blade's faces are 57-100 across; the tip of a small bump, whose few normals
 #: along the axis lie on a disk a third of its radius across, is no face to end a layer on.
 FACE_WIDTH = 10.0
+#: A uniform layer's part beside a face holds at least this share of its points beyond the
+#: face's noise (`section_height`), or it is no part of the object: beyond a cap only the
+#: cap's noise lies there, 0.3 % of a Gaussian's points beyond 3 standard deviations.
+PART_SHARE = 0.01
 #: A Gaussian's interquartile range in standard deviations.
 IQR_SIGMAS = 1.349
 #: A face holds at least this share of the cloud's points: the turbine blade's root faces
@@ -159,3 +165,35 @@ def _spread(heights: FloatArray) -> float:
     """The height between a group's first and third quartile."""
     low, high = np.percentile(heights, [25, 75])
     return float(high - low)
+
+
+def section_height(surface: SurfaceSamples, bottom: float, top: float, tolerance: float
+                   ) -> tuple[float, float | None]:
+    """Where to take the section of the slab [bottom, top] given its points' surface samples:
+    its mid-plane, or, where that lies in the noisy points of a flat face (within half the
+    face's clearance), the mid-plane of the slab's larger part beside the face.
+
+    A uniform layer keeps the thickness asked for, so a face may fall anywhere in it; at the
+    mid-plane the face's points mix with the walls' and the section is neither part's. The
+    larger part's section, which the layer then stands for, is taken at that part's middle,
+    and at least half the face's clearance from it. Beyond a cap the larger part may hold
+    the cap's noise alone (`PART_SHARE`); the section then stays at the mid-plane.
+
+    Returns
+    -------
+    height : the section's height.
+    face : the face's height when the section was moved off the mid-plane, else None.
+    """
+    z = 0.5 * (bottom + top)
+    faces, clear = flat_faces(surface, tolerance)
+    near = np.flatnonzero(np.abs(faces - z) < clear / 2)
+    if not len(near):
+        return z, None
+    face, half = float(faces[near[0]]), float(clear[near[0]] / 2)
+    end = bottom if face >= z else top  # the far end of the larger part
+    side = np.sign(end - face)
+    height = face + side * max(half, 0.5 * abs(end - face))
+    beyond = np.count_nonzero(side * (surface.uvh[:, 2] - face) > half)
+    if not bottom < height < top or beyond < PART_SHARE * len(surface.uvh):
+        return z, None  # the part beyond a cap holds the cap's noise alone
+    return float(height), face

@@ -9,7 +9,10 @@ layers, each its contours extruded from its bottom to its top, is the layer-base
 model for rapid prototyping; its error is 3D: the distance from each cloud point to the
 surface of the stack (`wavepoly.staircase`), reported per layer.
 
-Uniform layers have one thickness. Adaptive layers (Wu, Wong, Loh & Zhang 2004) are as thick
+Uniform layers have one thickness; where a flat face across the axis falls so near a
+layer's mid-plane that the plane lies in the face's noisy points, the layer's section is
+taken in the middle of its larger part beside the face (`wavepoly.flat_faces.section_height`).
+Adaptive layers (Wu, Wong, Loh & Zhang 2004) are as thick
 as the shape allows: a candidate layer's section is fitted within tolerance / 2 and the layer
 is accepted when the staircase error of its slab stays within the tolerance; the thickness
 grows from the previous layer's while that holds and shrinks when it fails, between
@@ -38,6 +41,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from .bands import (
+    IN_A_FACE,
     band_of,
     closed_up,
     farther_jobs,
@@ -428,6 +432,11 @@ def _notes(layers: list[Layer], tolerance: float) -> list[str]:
     if empty:
         notes.append(f"{len(empty)} layer(s) with points but no section at the mid-plane "
                      f"(caps, or too few points), e.g. layer {empty[0]}")
+    moved = [k for k, la in enumerate(layers) if any(IN_A_FACE in n for n in la.fit.notes)]
+    if moved:
+        notes.append(f"{len(moved)} layer(s) whose mid-plane lies in a flat face's points, "
+                     f"e.g. layer {moved[0]}: each is the section of its larger part beside "
+                     "the face (adaptive layers end on faces instead)")
     over = [k for k, la in enumerate(layers) if la.model_error > tolerance]
     if over:
         notes.append(f"{len(over)} layer(s) whose staircase error exceeds the tolerance "
