@@ -115,7 +115,7 @@ def test_uniform_layers_keep_their_thickness():
     assert not any("adaptive layers end on them" in n for n in res.notes)
 
 
-def _uniform_in_faces(monkeypatch=None):
+def _uniform_in_faces():
     """Uniform layers 0.1 thick from the block's lowest point: the first and the eleventh
     have their mid-planes 0.017 above the bottom face and the step, in their noise (σ 0.01)."""
     res = slice_cloud(stepped_block(), EPS, layer_thickness=0.1, workers=1)
@@ -147,5 +147,5 @@ def test_at_its_mid_plane_the_steps_layer_zigzags(monkeypatch):
 
     monkeypatch.setattr(bands, "section_height", lambda s, bottom, top, tol:
                         (0.5 * (bottom + top), None))
-    _, first, step = _uniform_in_faces()
+    _, _, step = _uniform_in_faces()
     assert sum(len(c.vertices) for c in step.fit.contours) > 20

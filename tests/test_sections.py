@@ -302,7 +302,7 @@ def _off_square(xy: np.ndarray, half: float) -> np.ndarray:
     return np.where(inside, half - a.max(axis=1), out)
 
 
-def _block_sections(monkeypatch=None):
+def _block_sections():
     """Section points of the stepped block (a 4 x 4 x 1 block under a 2 x 2 x 1 one, noise
     ε / 5) at heights along its walls, each with its square's half-width."""
     from .test_flat_faces import stepped_block

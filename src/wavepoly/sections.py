@@ -22,7 +22,9 @@ there), so a cap or a ledge inside the slab that does not cross the mid-plane gi
 points, and nothing is extrapolated past an end of the object. Beside an edge (a box's
 vertical corner, a step's rim) a point's neighbourhood lies on two faces and its plane is
 neither: such a point takes the plane of a flatter neighbourhood nearby that it lies on, so
-that the section runs into the corner instead of cutting it (Fleishman et al.). Thus a band
+that the section runs into the corner instead of cutting it (Fleishman et al.); a shallow
+point whose wider height field spans an edge, or comes out steep, gives no section point (it
+would slide along the edge's tilt). Thus a band
 becomes a line of points with the scan's noise, which the fit turns into the section within
 ε.
 
@@ -129,12 +131,13 @@ def surface_samples(uvh: FloatArray, k: int = SURFACE_NEIGHBOURS,
     """Tangent planes and neighbourhood extents of a cloud in plane coordinates (u, v, height).
 
     Each tangent plane is fitted to the ``k`` nearest neighbours of a point (Hoppe et al.).
-    Near an edge of the object a point's own neighbourhood straddles two faces; the point
-    then takes the tangent plane of the flattest neighbourhood among its neighbours' that it
-    lies on (`_shifted`): one on its own face. A scan sampled more densely than its noise
-    allows (its median neighbourhood is not planar, see `NOISE_FLATNESS`) is thinned first
-    to every 2nd, 4th... point (in the given order), and only the points kept are described:
-    the density its noise supports.
+    A steep point less planar than its noise explains (most of all near an edge of the
+    object, where its neighbourhood straddles two faces) takes the tangent plane of the
+    flattest neighbourhood among its neighbours' that it lies on (`_shifted`): one on its own
+    face. A shallow one is fitted again as a height field over more neighbours. A scan
+    sampled more densely than its noise allows (its median neighbourhood is not planar, see
+    `NOISE_FLATNESS`) is thinned first to every 2nd, 4th... point (in the given order), and
+    only the points kept are described: the density its noise supports.
 
     Parameters
     ----------

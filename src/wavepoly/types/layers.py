@@ -14,7 +14,8 @@ class SurfaceSamples:
     uvh: (N, 3) plane coordinates and height, sorted by height; normals: (N, 3) unit normals
     of the local tangent planes; low, high: height range of each point's neighbourhood;
     radius: the neighbourhood's radius; flatness: its smallest principal variance over the
-    middle one (0 on a plane, larger across an edge); offset: each point's signed distance
+    middle one (0 on a plane, larger across an edge; inf where a shallow point's wider fit
+    spans an edge); offset: each point's signed distance
     from its tangent plane (through its neighbourhood's centroid), along its normal;
     slope_score: where the surface is shallow, its slope over the slope's standard error
     (from a wider neighbourhood, which then also gives the other fields); inf where steep;
