@@ -71,7 +71,7 @@ def run() -> str:
 MODEL = """**How it grows (on paper).** The driver reads and holds the cloud only in the local
 pool: 3 copies of 24 bytes per point (the points, their plane coordinates sorted by height,
 and the bands being sent), so 10^8 points need about 7 GB and 10^7 about 0.7 GB besides
-Python's 0.2 GB. A layer's job holds its band (the slab and a layer either side: 3 N / L
+Python's 0.2 GB. A layer's job holds its band (the slab and two layers either side: 5 N / L
 points for N points in L layers) and the tangent planes of its slab; its time is that of
 the KD-tree of the band and of the fit of its section, about linear in N / L, so the pool's
 time is about c N / cores with c ≈ 5 µs per point on this machine (10^8 points: ~4 min on 2
@@ -79,7 +79,7 @@ cores, ~30 s on 16).
 
 On a Dask cluster the driver holds no points: the per-tile counts and height ranges, the
 layer plan, and the layers' contours (kilobytes per layer). Per layer, what crosses the
-network is its band (3 N / L points of 24 bytes, sent once from the workers that split the
+network is its band (5 N / L points of 24 bytes, sent once from the workers that split the
 tiles to the one that fits it) and its contours back; each tile is read twice (the summary,
 then the split) by the worker that holds it. The workers together hold about 2 copies of
 the cloud while the layers are split and merged (the tiles' pieces and the merged layers),

@@ -1,13 +1,13 @@
 """One layer from its band of the cloud alone: the unit of work that goes to a worker.
 
 A layer's section needs the tangent planes of its slab's points (`wavepoly.sections`), and a
-point's tangent plane needs its neighbourhood, which reaches a little above and below the
-slab. So a layer's job carries a *band*: the slab and whole layers on either side of it. The
-job knows which heights its band covers, so it can tell whether each slab point's
-neighbourhood lies within them (then it is the same neighbourhood as in the whole cloud); when
-one does not, the job answers None and the caller sends a wider band. The answer is thus the
-same whether the layers run in this process, in a local pool or on a cluster, and no worker
-ever holds more of the cloud than a few layers.
+point's tangent plane needs its neighbourhood and its neighbours' (`SurfaceSamples.support`),
+which reach a little above and below the slab. So a layer's job carries a *band*: the slab
+and whole layers on either side of it. The job knows which heights its band covers, so it can
+tell whether what each slab point's plane depends on lies within them (then it is the same as
+in the whole cloud); when it does not, the job answers None and the caller sends a wider
+band. The answer is thus the same whether the layers run in this process, in a local pool or
+on a cluster, and no worker ever holds more of the cloud than a few layers.
 
 The staircase error of a layer (`wavepoly.staircase`) is a job of its own (`ErrorJob`): it
 needs the contours of the layers next to it, known only once they are fitted.

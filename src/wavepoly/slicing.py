@@ -83,10 +83,13 @@ LAYER_COUNT_SLACK = 1e-9
 GROWTH = 1.25
 #: A note names this many flat faces' heights.
 FACES_SHOWN = 5
-#: A uniform layer's first band holds this many layers on either side of its slab (enough for
-#: the neighbourhoods of scans whose spacing is below a layer's thickness); it doubles for the
-#: layers whose slab points reach beyond it.
-BAND_REACH = 1
+#: A uniform layer's first band holds this many layers on either side of its slab: enough for
+#: the neighbourhoods of its points and of their neighbours (whose planes a point may take,
+#: `wavepoly.sections`), about two radii, where the scan's spacing is below a layer's
+#: thickness. It doubles for the layers whose slab points reach beyond it. With one layer, the
+#: turbine blade's 85 bands (600,000 points, layers of 1/100 of its diagonal) were sent 172
+#: times, and the fits took 62 s instead of 38 (in one process).
+BAND_REACH = 2
 
 
 def plane_basis(axis: str | FloatArray) -> FloatArray:
