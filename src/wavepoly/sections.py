@@ -197,7 +197,17 @@ def node_step(uvh: FloatArray, k: int = SURFACE_NEIGHBOURS) -> tuple[int, cKDTre
 def _median_flatness(nodes: FloatArray, tree: cKDTree, k: int) -> float:
     sample = np.arange(0, len(nodes), max(1, len(nodes) // FLATNESS_SAMPLE))
     near = _neighbours(nodes, tree, sample, min(k, len(nodes)))
-    return float(np.median(_fits(nodes, sample, near).flatness))
+    _, _, values, _ = _principal(nodes[near])  # the flatness alone: no quadric needed
+    return float(np.median(values[:, 0] / np.maximum(values[:, 1], 1e-300)))
+
+
+def _principal(nbr: FloatArray) -> tuple[FloatArray, ...]:
+    """Centroid, centred points, principal variances (ascending) and axes of each (k, 3)
+    neighbourhood in ``nbr`` (n, k, 3)."""
+    centroid = nbr.mean(axis=1)
+    centred = nbr - centroid[:, None]
+    values, axes = np.linalg.eigh(np.einsum("nki,nkj->nij", centred, centred))
+    return centroid, centred, values, axes
 
 
 class _Fits(NamedTuple):
@@ -234,10 +244,7 @@ def _fits(nodes: FloatArray, which: IntArray, near: IntArray) -> _Fits:
     for start in range(0, n, CHUNK):
         stop = min(n, start + CHUNK)
         nbr = nodes[near[start:stop]]
-        centroid[start:stop] = nbr.mean(axis=1)
-        centred = nbr - centroid[start:stop, None]
-        cov = np.einsum("nki,nkj->nij", centred, centred)
-        values, axes = np.linalg.eigh(cov)
+        centroid[start:stop], centred, values, axes = _principal(nbr)
         normals[start:stop] = axes[:, :, 0]  # the smallest principal axis
         flatness[start:stop] = values[:, 0] / np.maximum(values[:, 1], 1e-300)
         low[start:stop] = nbr[:, :, 2].min(axis=1)
