@@ -8,25 +8,23 @@ import pytest
 
 import wavepoly
 import wavepoly.ordering.rereading as rereading
-from benchmarks.silhouettes import bitmap, sample, silhouette, thinned
+from benchmarks.silhouettes import bitmap, sample, silhouette
 from wavepoly.ordering.rereading import _free_end
 from wavepoly.types import OrderedContour, Ordering
 
 from .conftest import assert_rings_drawn
 
 #: Silhouette sweep samplings whose seed-0 reading left pieces of the outline open: (seed,
-#: bitmap pixels or None, points or None for the traced ones, diagonal / ε, noise in ε,
-#: thinned to a quarter across).
-BROKEN = [(28, None, 3000, 300, 1 / 8, False), (35, None, 1000, 150, 1 / 4, False),
-          (0, 600, None, 300, 0.0, False), (16, None, 1000, 150, 0.0, True),
-          (45, 300, None, 150, 0.0, False)]
+#: bitmap pixels or None, points or None for the traced ones, diagonal / ε, noise in ε).
+#: The thinned silhouettes' first readings now close across the gaps a sparse sampling
+#: leaves (`wavepoly.ordering.gaps.chance_gaps`; seed 16 at 1000 points was one).
+BROKEN = [(28, None, 3000, 300, 1 / 8), (35, None, 1000, 150, 1 / 4), (0, 600, None, 300, 0.0),
+          (45, 300, None, 150, 0.0)]
 
 
-def _case(seed, pixels, n, division, noise, thin):
+def _case(seed, pixels, n, division, noise):
     rings = silhouette(seed)
     eps = 1 / division
-    if thin:
-        return rings, thinned(rings, n, noise * eps, 0.25, seed), eps
     if pixels is not None:
         rings = bitmap(rings, pixels)
     pts = np.vstack(rings) if n is None else sample(rings, n, noise * eps, 1000 + seed)

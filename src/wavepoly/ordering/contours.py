@@ -163,7 +163,8 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
     contours = split_at_crossings(contours, pts)
     # on a noisy scan (a laser map) a room's wall and a short wall meeting it are lines
     if stems and clean:
-        contours = close_gaps(close_outlines(contours, pts, radius), pts, radius)
+        contours, outliers = close_gaps(close_outlines(contours, pts, radius), pts, radius,
+                                        outliers)
         contours = _split_off_holes(_untangled(contours), pts, radius)
         contours = _split_grown(contours, join_through_mouths(
             rejoin_split_tips(contours, radius, pts), pts, radius), pts, radius)

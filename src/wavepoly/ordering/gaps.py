@@ -18,7 +18,7 @@ import shapely
 from scipy.spatial import cKDTree
 
 from ..geometry import polyline_distance, polyline_length
-from ..types import FloatArray, OrderedContour
+from ..types import FloatArray, IntArray, OrderedContour
 from .untangle import untangle
 
 #: An open piece closes across a gap of at most this many radii (the march stops up to some 6
@@ -41,28 +41,36 @@ GAP_SUPPORT = 1.25
 GAP_STEP = 0.5
 #: Ends of other pieces looked at per end, the nearest first.
 GAP_CANDIDATES = 6
+#: The mean spacing of the points near an end (`chance_gaps`) is taken over the contours'
+#: length within this many radii of it.
+SPACING_WINDOW = 10.0
 
 
-def close_gaps(contours: list[OrderedContour], points: FloatArray, radius: float
-               ) -> list[OrderedContour]:
+def close_gaps(contours: list[OrderedContour], points: FloatArray, radius: float,
+               left_out: IntArray | None = None
+               ) -> tuple[list[OrderedContour], IntArray]:
     """Close each open piece whose ends lie across a short gap that its points fill, then
     each cycle of open pieces whose ends pair up across such gaps.
 
-    The closed ring keeps the pieces' points; where a closing edge crosses a piece near the
-    gap, the crossing is untangled (2-opt). Pieces close only when the ring is a valid
-    polygon, crosses no other contour and keeps every member as near as the open pieces did
-    (or within a radius). Two ends pair up when each is the other's nearest end (of another
-    piece) across a gap of at most `GAP_REACH` radii that points fill (`GAP_SUPPORT`).
+    The closed ring keeps the pieces' points, and takes the points left out that lie across
+    a gap (`_bridge`: a single return at a limb's round tip beyond a sparse scan's gap);
+    where a closing edge crosses a piece near the gap, the crossing is untangled (2-opt).
+    Pieces close only when the ring is a valid polygon, crosses no other contour and keeps
+    every member as near as the open pieces did (or within a radius). Two ends pair up when
+    each is the other's nearest end (of another piece) across a gap of at most `GAP_REACH`
+    radii that points fill (`GAP_SUPPORT`) or no wider than the sample leaves by chance
+    (`chance_gaps`: on a scan sparser than the radius, the gap a random sampling left).
 
     Parameters
     ----------
     contours : the ordered contours; only the open ones are read.
     points : the input points (the contours' members index them).
     radius : the neighbourhood radius of the ordering.
+    left_out : indices of the points no contour holds (outliers so far), sorted.
 
     Returns
     -------
-    The contours, those that closed now closed.
+    The contours, those that closed now closed, and the points still left out.
 
     Examples
     --------
@@ -71,56 +79,84 @@ def close_gaps(contours: list[OrderedContour], points: FloatArray, radius: float
     >>> t = np.linspace(0, 2 * np.pi, 600, endpoint=False)
     >>> pts = np.column_stack([np.cos(t), np.sin(t)])
     >>> piece = OrderedContour(pts[:-6:6], False, np.arange(600))
-    >>> [c.closed for c in close_gaps([piece], pts, 0.03)]
+    >>> [c.closed for c in close_gaps([piece], pts, 0.03)[0]]
     [True]
     """
+    left_out = np.empty(0, dtype=np.intp) if left_out is None else left_out
     if all(c.closed for c in contours):
-        return contours
+        return contours, left_out
     tree = cKDTree(points)
+    lines = shapely.union_all([_line(c) for c in contours])
     others = shapely.STRtree([_line(c) for c in contours])
     out = list(contours)
     for k, c in enumerate(contours):
-        if c.closed or not _filled_gap(c.points, tree, radius):
+        if c.closed or not _filled_gap(c.points, lines, tree, radius):
             continue
-        ring = _closed_ring(c.points)
+        ring, taken = _bridge([c.points], points, left_out)
+        ring = _closed_ring(ring)
         if ring is None or meets_others(ring, (k,), others):
             continue
         if keeps_members(ring, c, points, radius):
-            out[k] = OrderedContour(ring, True, c.members)
-    return _close_cycles(out, points, radius, tree)
+            out[k] = OrderedContour(ring, True, np.union1d(c.members, taken))
+            left_out = np.setdiff1d(left_out, taken)
+    return _close_cycles(out, points, radius, tree, left_out)
 
 
 def _close_cycles(contours: list[OrderedContour], points: FloatArray, radius: float,
-                  tree: cKDTree) -> list[OrderedContour]:
+                  tree: cKDTree, left_out: IntArray
+                  ) -> tuple[list[OrderedContour], IntArray]:
     """Join open pieces end to end into one ring where their ends pair up across filled gaps
     (`_partner_ends`) and the pairs close a cycle; under the rules of a single piece's gap."""
     pieces = [k for k, c in enumerate(contours) if not c.closed and len(c.points) >= 2]
     if len(pieces) < 2:
-        return contours
+        return contours, left_out
     ends = np.vstack([contours[k].points[[0, -1]] for k in pieces])
-    partner = _partner_ends(ends, tree, radius)
+    chance = chance_gaps(ends, shapely.union_all([_line(c) for c in contours]), tree, radius)
+    partner = _partner_ends(ends, chance, tree, radius)
     others = shapely.STRtree([_line(c) for c in contours])
     out, used = list(contours), set()
     for cycle in _cycles(partner):
         own = tuple(pieces[i] for i, _ in cycle)
-        ring = np.vstack([contours[pieces[i]].points[::-1 if flip else 1] for i, flip in cycle])
+        walks = [contours[pieces[i]].points[::-1 if flip else 1] for i, flip in cycle]
         exits = [_exit_end(i, flip) for i, flip in cycle]
         widest = np.linalg.norm(ends[exits] - ends[partner[exits]], axis=1).max()
-        if polyline_length(ring, True) < GAP_LENGTH * widest:
+        if polyline_length(np.vstack(walks), True) < GAP_LENGTH * widest:
             continue
+        ring, taken = _bridge(walks, points, left_out)
         ring = _closed_ring(ring)
         if ring is None or meets_others(ring, own, others):
             continue
         if all(keeps_members(ring, contours[k], points, radius) for k in own):
-            members = np.sort(np.concatenate([contours[k].members for k in own]))
-            out[own[0]] = OrderedContour(ring, True, members)
+            members = np.concatenate([contours[k].members for k in own] + [taken])
+            out[own[0]] = OrderedContour(ring, True, np.sort(members))
             used.update(own[1:])
-    return [c for k, c in enumerate(out) if k not in used]
+            left_out = np.setdiff1d(left_out, taken)
+    return [c for k, c in enumerate(out) if k not in used], left_out
 
 
-def _partner_ends(ends: FloatArray, tree: cKDTree, radius: float) -> np.ndarray:
+def _bridge(walks: list[FloatArray], points: FloatArray, left_out: IntArray
+            ) -> tuple[FloatArray, IntArray]:
+    """The ring that walks the pieces in turn, each gap from one's last point to the next's
+    first crossed through the points left out within half the gap of its middle (in their
+    order along it), and those points' indices."""
+    parts, taken = [], []
+    for w, nxt in zip(walks, walks[1:] + walks[:1]):
+        a, b = w[-1], nxt[0]
+        half = 0.5 * float(np.linalg.norm(b - a))
+        near = left_out[np.linalg.norm(points[left_out] - 0.5 * (a + b), axis=1) <= half]
+        along = (points[near] - a) @ (b - a)
+        near = near[np.argsort(along, kind="stable")]
+        parts += [w, points[near]]
+        taken.append(near)
+    return np.vstack(parts), np.concatenate(taken).astype(np.intp)
+
+
+def _partner_ends(ends: FloatArray, chance: FloatArray, tree: cKDTree, radius: float
+                  ) -> np.ndarray:
     """For each end (two per piece), the nearest end of another piece within `GAP_REACH`
-    radii across a filled gap, where that end chooses it back; else -1."""
+    radii across a filled gap or one no wider than the sampling leaves by chance there
+    (``chance``: each end's, `chance_gaps`; the two ends' mean), where that end chooses it
+    back; else -1."""
     k = min(GAP_CANDIDATES, len(ends))
     dist, near = cKDTree(ends).query(ends, k=k, distance_upper_bound=GAP_REACH * radius)
     choice = np.full(len(ends), -1)
@@ -128,7 +164,8 @@ def _partner_ends(ends: FloatArray, tree: cKDTree, radius: float) -> np.ndarray:
         for d, j in zip(dist[e], near[e]):
             if not np.isfinite(d):
                 break
-            if j // 2 != e // 2 and is_supported(ends[e], ends[j], tree, radius):
+            if j // 2 != e // 2 and (d <= 0.5 * (chance[e] + chance[j])
+                                     or is_supported(ends[e], ends[j], tree, radius)):
                 choice[e] = j
                 break
     mutual = (choice >= 0) & (choice[np.maximum(choice, 0)] == np.arange(len(ends)))
@@ -177,14 +214,36 @@ def meets_others(ring: FloatArray, own: tuple[int, ...], others: shapely.STRtree
     return bool(np.any(~np.isin(hit, own)))
 
 
-def _filled_gap(xy: FloatArray, tree: cKDTree, radius: float) -> bool:
+def _filled_gap(xy: FloatArray, lines: shapely.Geometry, tree: cKDTree, radius: float
+                ) -> bool:
     """Are the piece's ends within `GAP_REACH` radii, the piece `GAP_LENGTH` times as long as
-    the gap, and points along the gap (`is_supported`)?"""
+    the gap, and points along the gap (`is_supported`) or the gap no wider than the sampling
+    leaves by chance there (`chance_gaps`)?"""
     a, b = xy[0], xy[-1]
     gap = float(np.linalg.norm(b - a))
     if len(xy) < 4 or gap > GAP_REACH * radius or polyline_length(xy, False) < GAP_LENGTH * gap:
         return False
-    return is_supported(a, b, tree, radius)
+    return (gap <= float(chance_gaps(xy[[0, -1]], lines, tree, radius).mean())
+            or is_supported(a, b, tree, radius))
+
+
+def chance_gaps(ends: FloatArray, lines: shapely.Geometry, tree: cKDTree, radius: float
+                ) -> FloatArray:
+    """The widest gap a uniform random sampling leaves near each end: ln n times the mean
+    spacing there (n the number of points; the gaps between n uniform random samples are
+    exponential, and the widest is about ln n times their mean). The mean spacing is the
+    length of the contours' ``lines`` within `SPACING_WINDOW` radii of the end over the
+    points there (two walls side by side have twice the points along twice the length).
+
+    On a clean scan the spacing is a fraction of the radius, and this is less than the gaps
+    the march joins; on one sparser than the radius (a scan thinned across a part) it closes
+    an outline across an empty stretch a few times its spacing wide.
+    """
+    reach = SPACING_WINDOW * radius
+    length = shapely.length(shapely.intersection(lines, shapely.buffer(shapely.points(ends),
+                                                                       reach)))
+    count = np.array([len(n) for n in tree.query_ball_point(ends, reach)])
+    return np.log(max(tree.n, 2)) * length / np.maximum(count, 1)
 
 
 def is_supported(a: FloatArray, b: FloatArray, tree: cKDTree, radius: float) -> bool:
