@@ -77,3 +77,34 @@ def test_a_speck_gives_way_to_its_hull_and_a_larger_group_does_not():
     tied = OrderedContour(pts[:12], False, np.arange(12))  # one contour through both: left
     contours, outliers = speck_contours([tied], np.arange(33, len(pts)), pts, EPS, EPS)
     assert contours == [tied]
+
+
+@pytest.mark.parametrize("seed", [3, 5])
+def test_specks_drawn_as_a_line_through_them_are_rings(seed):
+    """Ellipses 0.5-1.5 tolerances across: a speck 1.4 across of a dozen points was drawn as
+    an open line through it (one in each of these images); it is its hull now."""
+    rings = scattered_ellipses(30, across=(0.5 * EPS, 1.5 * EPS), clearance=2 * EPS,
+                               box=60 * EPS, seed=seed)
+    pts = sample_rings(rings, spacing=EPS / 3, seed=seed)
+    result = wavepoly.fit(pts, EPS)
+    assert all(c.closed for c in result.contours)
+    assert all(len(drawn) == 1 for drawn in shapes_drawn(rings, result.contours))
+    assert independent_problems(result) == []
+
+
+def test_a_loop_only_scraps_drew_is_its_hull_and_a_dash_is_not():
+    """`speck_contours`: a ring 2.5 tolerances across that an open scrap drew becomes its
+    hull (its points surround its centre); a noisy straight dash as long, drawn the same
+    way, is left a line (its points near the middle lie all round its centre)."""
+    t = np.linspace(0, 2 * np.pi, 16, endpoint=False)
+    loop = 0.9 * EPS * np.column_stack([np.cos(t), np.sin(t)])
+    dash = np.column_stack([np.linspace(10, 12.5, 30), np.zeros(30)])
+    dash += np.random.default_rng(1).normal(scale=EPS / 8, size=dash.shape)
+    pts = np.vstack([loop, dash])
+    assert np.hypot(*np.ptp(loop, axis=0)) > 2 * EPS
+    scraps = [OrderedContour(loop[2:9], False, np.arange(16)),
+              OrderedContour(dash[[0, -1]], False, np.arange(16, 46))]
+    contours, outliers = speck_contours(scraps, np.empty(0, dtype=np.intp), pts, EPS, EPS)
+    assert len(outliers) == 0
+    assert [(c.closed, len(c.members)) for c in contours] == [(False, 30), (True, 16)]
+    assert shapely.Polygon(contours[1].points).is_valid

@@ -41,6 +41,10 @@ SPECK_EXTENT = 4.0
 #: leave one of 93, the sliver of silhouette 0:53 one of 126; an open stroke leaves two of
 #: about 180.
 LOOP_GAP = 135.0
+#: A group that only open scraps drew is a loop where its points at least this share of
+#: their median distance from its centre surround it: a ring's are all about as far, a
+#: dash's lie along its two halves (and those near its middle anywhere round it).
+RIM = 0.5
 
 
 def island_contours(outliers: IntArray, pts: FloatArray, radius: float, tolerance: float
@@ -76,7 +80,9 @@ def speck_contours(contours: list[OrderedContour], outliers: IntArray, pts: Floa
     its outliers, give way to it; a contour that holds a speck's points and others is left.
     A group up to `SPECK_EXTENT` tolerances across that nothing drew (all outliers: an arc
     sampled on one side only, no loop for `island_contours`) becomes its hull too, where
-    every point lies within a tolerance of the hull's outline.
+    every point lies within a tolerance of the hull's outline; so does one that only open
+    scraps drew and whose points surround its centre (a speck 1.5-2 tolerances across drawn
+    as a line through it: a loop, `LOOP_GAP`).
 
     Returns the contours and the outliers left.
     """
@@ -92,11 +98,16 @@ def speck_contours(contours: list[OrderedContour], outliers: IntArray, pts: Floa
     clear = np.bincount(label, weights=within > own, minlength=len(size)) == 0
     extent = group_extents(pts[cand], label)
     undrawn = np.bincount(label[np.searchsorted(cand, outliers)], minlength=len(size)) == size
+    owner = {k: np.unique(label[np.searchsorted(cand, contours[k].members)]) for k in small}
+    scraps = np.ones(len(size), dtype=bool)  # drawn by open scraps alone, or by nothing
+    for k, groups in owner.items():
+        scraps[groups] &= not contours[k].closed
+    loose = (undrawn | (scraps & np.array([_surrounds_centre(pts[cand[label == g]], RIM)
+                                           for g in range(len(size))])))
     speck = clear & (size >= ISLAND_POINTS) & (
-        (extent < ISLAND_EXTENT * tolerance) | (undrawn & (extent < SPECK_EXTENT * tolerance)))
+        (extent < ISLAND_EXTENT * tolerance) | (loose & (extent < SPECK_EXTENT * tolerance)))
     if not speck.any():
         return contours, outliers
-    owner = {k: np.unique(label[np.searchsorted(cand, contours[k].members)]) for k in small}
     for groups in owner.values():  # a contour reaching beyond a group leaves it be
         if len(groups) > 1:
             speck[groups] = False
@@ -134,11 +145,29 @@ def _island(group: FloatArray, members: IntArray) -> OrderedContour | None:
     hull's centre. On an open arc the hull's centre lies nearer the chord than the mean does,
     so an arc is no more a loop than it was (a half circle: 134 degrees against 115).
     """
-    centre = np.asarray(shapely.MultiPoint(group).convex_hull.centroid.coords[0])
-    angle = np.arctan2(group[:, 1] - centre[1], group[:, 0] - centre[0])
-    order = np.argsort(angle)
-    gaps = np.diff(np.concatenate([angle[order], [angle[order][0] + 2 * np.pi]]))
-    if np.degrees(gaps.max()) > LOOP_GAP:
+    if not _surrounds_centre(group):
         return None
-    ring = group[order]
+    ring = group[_around_centre(group)]
     return OrderedContour(ring, True, np.sort(members)) if shapely.Polygon(ring).is_valid else None
+
+
+def _around_centre(group: FloatArray) -> IntArray:
+    """The group's points in order of their angle about its convex hull's centroid."""
+    centre = np.asarray(shapely.MultiPoint(group).convex_hull.centroid.coords[0])
+    return np.argsort(np.arctan2(group[:, 1] - centre[1], group[:, 0] - centre[0]))
+
+
+def _surrounds_centre(group: FloatArray, rim: float = 0.0) -> bool:
+    """Whether no two points next in angle about the group's hull centre (`_island`) are
+    more than `LOOP_GAP` apart: a loop, where an open stroke leaves two gaps of about 180.
+    Only the points at least ``rim`` times the median distance from the centre count (a
+    noisy straight dash has points all round the centre close to it)."""
+    centre = np.asarray(shapely.MultiPoint(group).convex_hull.centroid.coords[0])
+    offset = group - centre
+    distance = np.hypot(offset[:, 0], offset[:, 1])
+    offset = offset[distance >= rim * np.median(distance)]
+    if len(offset) < 3:
+        return False
+    angle = np.sort(np.arctan2(offset[:, 1], offset[:, 0]))
+    gaps = np.diff(np.concatenate([angle, [angle[0] + 2 * np.pi]]))
+    return bool(np.degrees(gaps.max()) <= LOOP_GAP)
