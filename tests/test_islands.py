@@ -95,7 +95,8 @@ def test_specks_drawn_as_a_line_through_them_are_rings(seed):
 def test_a_loop_only_scraps_drew_is_its_hull_and_a_dash_is_not():
     """`speck_contours`: a ring 2.5 tolerances across that an open scrap drew becomes its
     hull (its points surround its centre); a noisy straight dash as long, drawn the same
-    way, is left a line (its points near the middle lie all round its centre)."""
+    way, is left a line (its points near the middle lie all round its centre); and on a
+    noisy scan's outliers read again (``scraps`` False) both are left."""
     t = np.linspace(0, 2 * np.pi, 16, endpoint=False)
     loop = 0.9 * EPS * np.column_stack([np.cos(t), np.sin(t)])
     dash = np.column_stack([np.linspace(10, 12.5, 30), np.zeros(30)])
@@ -108,3 +109,7 @@ def test_a_loop_only_scraps_drew_is_its_hull_and_a_dash_is_not():
     assert len(outliers) == 0
     assert [(c.closed, len(c.members)) for c in contours] == [(False, 30), (True, 16)]
     assert shapely.Polygon(contours[1].points).is_valid
+    # a noisy scan's outliers read again: scatter beside a wall, whose hull is a sliver
+    contours, _ = speck_contours(scraps, np.empty(0, dtype=np.intp), pts, EPS, EPS,
+                                 scraps=False)
+    assert contours == scraps

@@ -252,7 +252,8 @@ def _read(pts: FloatArray, radius: float, given: float, seed: int, min_points: i
                                      min_points, clean, corner_gap, stems=not again)
     if clean:  # on a noisy scan such groups are clutter
         islands, outliers = island_contours(outliers, pts, radius, given)
-        contours, outliers = speck_contours(contours + islands, outliers, pts, radius, given)
+        contours, outliers = speck_contours(contours + islands, outliers, pts, radius, given,
+                                            scraps=not again)
     elif not (again or middle):  # below the scatter, what lies off the middle is noise
         reread = partial(_read, radius=radius, given=given, seed=seed, min_points=min_points,
                          notes=(), spacing=0.0, tolerance=None, sparse=True, again=True)

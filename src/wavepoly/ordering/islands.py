@@ -69,7 +69,7 @@ def island_contours(outliers: IntArray, pts: FloatArray, radius: float, toleranc
 
 
 def speck_contours(contours: list[OrderedContour], outliers: IntArray, pts: FloatArray,
-                   radius: float, tolerance: float
+                   radius: float, tolerance: float, scraps: bool = True
                    ) -> tuple[list[OrderedContour], IntArray]:
     """Each speck a closed contour of its own: a group of at least `ISLAND_POINTS` points,
     each within ``radius`` of another and clear of every other point by ``radius``, that
@@ -82,7 +82,8 @@ def speck_contours(contours: list[OrderedContour], outliers: IntArray, pts: Floa
     sampled on one side only, no loop for `island_contours`) becomes its hull too, where
     every point lies within a tolerance of the hull's outline; so does one that only open
     scraps drew and whose points surround its centre (a speck 1.5-2 tolerances across drawn
-    as a line through it: a loop, `LOOP_GAP`).
+    as a line through it: a loop, `LOOP_GAP`), unless ``scraps`` is False (a noisy scan's
+    outliers read again: scatter beside a wall, whose hull is a sliver, not a speck).
 
     Returns the contours and the outliers left.
     """
@@ -99,13 +100,15 @@ def speck_contours(contours: list[OrderedContour], outliers: IntArray, pts: Floa
     extent = group_extents(pts[cand], label)
     undrawn = np.bincount(label[np.searchsorted(cand, outliers)], minlength=len(size)) == size
     owner = {k: np.unique(label[np.searchsorted(cand, contours[k].members)]) for k in small}
-    scraps = np.ones(len(size), dtype=bool)  # drawn by open scraps alone, or by nothing
+    drawn_by_scraps = np.ones(len(size), dtype=bool)  # open scraps alone, or nothing
     for k, groups in owner.items():
-        scraps[groups] &= not contours[k].closed
-    loose = (undrawn | (scraps & np.array([_surrounds_centre(pts[cand[label == g]], RIM)
-                                           for g in range(len(size))])))
-    speck = clear & (size >= ISLAND_POINTS) & (
-        (extent < ISLAND_EXTENT * tolerance) | (loose & (extent < SPECK_EXTENT * tolerance)))
+        drawn_by_scraps[groups] &= not contours[k].closed
+    small_enough = clear & (size >= ISLAND_POINTS) & (extent < SPECK_EXTENT * tolerance)
+    loose = undrawn.copy()
+    if scraps:
+        for g in np.flatnonzero(small_enough & drawn_by_scraps & ~undrawn):
+            loose[g] = _surrounds_centre(pts[cand[label == g]], RIM)
+    speck = small_enough & ((extent < ISLAND_EXTENT * tolerance) | loose)
     if not speck.any():
         return contours, outliers
     for groups in owner.values():  # a contour reaching beyond a group leaves it be
