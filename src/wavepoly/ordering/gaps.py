@@ -99,19 +99,23 @@ def close_gaps(contours: list[OrderedContour], points: FloatArray, radius: float
         if keeps_members(ring, c, points, radius):
             out[k] = OrderedContour(ring, True, np.union1d(c.members, taken))
             left_out = np.setdiff1d(left_out, taken)
-    return _close_cycles(out, points, radius, tree, left_out)
+    if any(a is not b for a, b in zip(out, contours)):  # rings closed: their lines moved
+        lines = shapely.union_all([_line(c) for c in out])
+    return _close_cycles(out, points, radius, tree, lines, left_out)
 
 
 def _close_cycles(contours: list[OrderedContour], points: FloatArray, radius: float,
-                  tree: cKDTree, left_out: IntArray
+                  tree: cKDTree, lines: shapely.Geometry, left_out: IntArray
                   ) -> tuple[list[OrderedContour], IntArray]:
     """Join open pieces end to end into one ring where their ends pair up across filled gaps
-    (`_partner_ends`) and the pairs close a cycle; under the rules of a single piece's gap."""
+    (`_partner_ends`) and the pairs close a cycle; under the rules of a single piece's gap.
+    ``lines``: the contours' lines (their union), where the spacing near the ends is measured
+    (`chance_gaps`)."""
     pieces = [k for k, c in enumerate(contours) if not c.closed and len(c.points) >= 2]
     if len(pieces) < 2:
         return contours, left_out
     ends = np.vstack([contours[k].points[[0, -1]] for k in pieces])
-    chance = chance_gaps(ends, shapely.union_all([_line(c) for c in contours]), tree, radius)
+    chance = chance_gaps(ends, lines, tree, radius)
     partner = _partner_ends(ends, chance, tree, radius)
     others = shapely.STRtree([_line(c) for c in contours])
     out, used = list(contours), set()

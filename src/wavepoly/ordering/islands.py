@@ -107,7 +107,7 @@ def speck_contours(contours: list[OrderedContour], outliers: IntArray, pts: Floa
     loose = undrawn.copy()
     if scraps:
         for g in np.flatnonzero(small_enough & drawn_by_scraps & ~undrawn):
-            loose[g] = _surrounds_centre(pts[cand[label == g]], RIM)
+            loose[g] = _surrounds(*_about_centre(pts[cand[label == g]]), RIM)
     speck = small_enough & ((extent < ISLAND_EXTENT * tolerance) | loose)
     if not speck.any():
         return contours, outliers
@@ -148,29 +148,26 @@ def _island(group: FloatArray, members: IntArray) -> OrderedContour | None:
     hull's centre. On an open arc the hull's centre lies nearer the chord than the mean does,
     so an arc is no more a loop than it was (a half circle: 134 degrees against 115).
     """
-    if not _surrounds_centre(group):
+    angle, distance = _about_centre(group)
+    if not _surrounds(angle, distance):
         return None
-    ring = group[_around_centre(group)]
+    ring = group[np.argsort(angle)]
     return OrderedContour(ring, True, np.sort(members)) if shapely.Polygon(ring).is_valid else None
 
 
-def _around_centre(group: FloatArray) -> IntArray:
-    """The group's points in order of their angle about its convex hull's centroid."""
-    centre = np.asarray(shapely.MultiPoint(group).convex_hull.centroid.coords[0])
-    return np.argsort(np.arctan2(group[:, 1] - centre[1], group[:, 0] - centre[0]))
+def _about_centre(group: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Each point's angle and distance about the group's convex hull's centroid."""
+    offset = group - np.asarray(shapely.MultiPoint(group).convex_hull.centroid.coords[0])
+    return np.arctan2(offset[:, 1], offset[:, 0]), np.hypot(offset[:, 0], offset[:, 1])
 
 
-def _surrounds_centre(group: FloatArray, rim: float = 0.0) -> bool:
-    """Whether no two points next in angle about the group's hull centre (`_island`) are
-    more than `LOOP_GAP` apart: a loop, where an open stroke leaves two gaps of about 180.
-    Only the points at least ``rim`` times the median distance from the centre count (a
-    noisy straight dash has points all round the centre close to it)."""
-    centre = np.asarray(shapely.MultiPoint(group).convex_hull.centroid.coords[0])
-    offset = group - centre
-    distance = np.hypot(offset[:, 0], offset[:, 1])
-    offset = offset[distance >= rim * np.median(distance)]
-    if len(offset) < 3:
+def _surrounds(angle: FloatArray, distance: FloatArray, rim: float = 0.0) -> bool:
+    """Whether no two points next in ``angle`` about the group's hull centre (`_island`,
+    `_about_centre`) are more than `LOOP_GAP` apart: a loop, where an open stroke leaves two
+    gaps of about 180. Only the points at least ``rim`` times the median ``distance`` from
+    the centre count (a noisy straight dash has points all round the centre close to it)."""
+    angle = np.sort(angle[distance >= rim * np.median(distance)])
+    if len(angle) < 3:
         return False
-    angle = np.sort(np.arctan2(offset[:, 1], offset[:, 0]))
     gaps = np.diff(np.concatenate([angle, [angle[0] + 2 * np.pi]]))
     return bool(np.degrees(gaps.max()) <= LOOP_GAP)
