@@ -384,6 +384,25 @@ def test_a_stem_that_zigzags_is_measured_along_its_middle():
     assert shapely.distance(polygon.exterior, shapely.Point(0.5, 0.0)) < radius
 
 
+def test_a_stem_whose_zigzag_tip_met_itself_is_walked_out_and_back():
+    # a slit 1.2 radii wide cut into a closed ring, whose walls the march zigzagged between:
+    # the zigzag is so much longer than the slit that its tip's end lies within reach of the
+    # chain farther on, and met it there, closing a loop of 6 nodes at the stem's dead end
+    radius = 0.05
+    t = np.linspace(0, 2 * np.pi, 628, endpoint=False)
+    ring = np.column_stack([np.cos(t), np.sin(t)])
+    x = np.linspace(0.5, 1.0, 50)
+    walls = np.vstack([np.column_stack([x, np.full(50, s * 0.6 * radius)]) for s in (-1, 1)])
+    pts = np.vstack([ring, walls])
+    steps = np.arange(0.5, 0.981, 0.02)
+    zigzag = np.column_stack([steps, 0.6 * radius * (-1.0) ** np.arange(len(steps))])
+    zigzag[0] = [0.5, 0.0]
+    stroke = OrderedContour(np.vstack([zigzag, [[1.0, 0.0]]]), False, np.arange(628, len(pts)))
+    out = close_outlines([OrderedContour(ring[::5], True, np.arange(628)), stroke], pts, radius)
+    polygon = _one_simple_ring(out)
+    assert shapely.distance(polygon.exterior, shapely.Point(0.5, 0.0)) < radius
+
+
 def test_a_lone_piece_that_zigzags_between_two_walls_is_walked_along_its_middle():
     # a thin hole 1.2 radii wide, whose walls the march zigzagged between as one chain,
     # stepping back a radius now and then (the zigzag half as long again as the hole: its
@@ -449,13 +468,15 @@ def test_a_stem_whose_points_spread_as_two_walls_needs_fewer_points():
         _closes_down_the_slit(ring, pieces, points, closes, radius)
 
 
-@pytest.mark.parametrize("seed", [40, 55, 60])
+@pytest.mark.parametrize("seed", [40, 55, 60, 13])
 def test_bitmap_slits_whose_walls_spread_about_their_stem_close_the_outline(seed):
     """Silhouettes traced from a 200-pixel bitmap with noise ε / 4: the slits' stems hold 1.36
     and 1.23 x the ring's points per length (under `STEM_DENSITY`) and spread 1.30 and 1.73 x
     as far; each outline was closed without its slit, which stayed an open stroke. Seed 60:
     a limb 1.5 ε wide whose stem zigzags, 2.6 x as long as the limb (0.8 x the ring's points
-    per length along the zigzag, 1.9 x along its middle)."""
+    per length along the zigzag, 1.9 x along its middle). Seed 13: a slit an ε wide whose
+    stroke zigzags so that its tip met the stroke farther on, a loop at the stem's dead end
+    (`bubbles.without_tip_loops`)."""
     from benchmarks.silhouettes import bitmap, sample, silhouette
 
     rings = bitmap(silhouette(seed), 200)

@@ -26,6 +26,7 @@ from scipy.spatial import cKDTree
 
 from ..geometry import polyline_distance, polyline_length
 from ..types import FloatArray, OrderedContour
+from .bubbles import is_speck, without_bubbles, without_tip_loops
 from .faces import CHORD_TIP, COVER_REACH, outline_of_faces
 from .joining import runs_along_points
 from .passes import out_and_back, smoothed
@@ -51,19 +52,6 @@ from .untangle import crossing_edges, share_members, untangle
 STEM_CROSSINGS = 12
 #: ... each within this many radii of a stem's root.
 ROOT_REACH = 2.0
-#: A loop edge from a junction back to it no longer than this many radii is a speck: the
-#: march left two or three nodes by the junction, and both their ends met it.
-SPECK_LENGTH = 1.0
-#: Two edges between the same two nodes that lie within this many radii of each other are one
-#: wall drawn twice, or a slit's two walls followed apart (a bubble), not a ring: a ring that
-#: thin is a stem, and walked as one. The silhouettes' slits part 1.1-1.45 radii where the
-#: march followed their walls apart (at 1.0 radius wide and 4 long, such bubbles kept 6 of
-#: 300 outlines open).
-BUBBLE_WIDTH = 1.5
-#: ... and no longer than this many radii: the march's two chains by a junction, a few nodes
-#: each, or a slit's walls followed apart (8-10 radii on the silhouettes). Longer ones are a
-#: chord beside a wall, whose region's boundary `outer_edges` finds.
-BUBBLE_LENGTH = 12.0
 #: Edges inside a cycle longer together than this share of the cycle are no chords across it
 #: (a chord spans at most a diameter, a third of a round outline) but a second ring the march
 #: stepped onto and off: two circles 1.5 tolerances apart, the inner one cut into pieces where
@@ -148,7 +136,7 @@ def _closed_components(contours: list[OrderedContour], pick: list[int], points: 
             used.update(taken)
             closed.append(OrderedContour(ring, True, members))
             continue
-        rings = theta_rings([k for k in comp if not _speck(edges[k], radius)], edges,
+        rings = theta_rings([k for k in comp if not is_speck(edges[k], radius)], edges,
                             points[members], radius)
         if rings is None:
             ring = _slit_to_a_dead_end(lines, closed_lines, met, pick, taken,
@@ -199,7 +187,7 @@ def _slit_to_a_dead_end(lines: list[FloatArray], closed: list[bool], met: list[J
         for comp in components(edges, len(node_xy)):
             if {pick[edges[k].piece] for k in comp} != set(taken):
                 continue
-            comp = [k for k in comp if not _speck(edges[k], radius)]
+            comp = [k for k in comp if not is_speck(edges[k], radius)]
             ring = outline_of_faces([edges[k].xy for k in comp], members, radius,
                                     open_holes=True)
             if ring is not None:
@@ -211,7 +199,8 @@ def _outline(comp: list[int], edges: list[Edge], members: FloatArray, radius: fl
              density: float = 0.0) -> FloatArray | None:
     """The closed walk of a component that is one cycle with stems, or of a lone piece that
     is a thin ring (`_thin_ring`), or None."""
-    comp = _without_bubbles([k for k in comp if not _speck(edges[k], radius)], edges, radius)
+    comp = without_bubbles([k for k in comp if not is_speck(edges[k], radius)], edges, radius)
+    without_tip_loops(comp, edges, radius)
     if not comp:
         return None
     stems = bridges(comp, edges)
@@ -319,47 +308,6 @@ def _thin_ring(comp: list[int], edges: list[Edge], members: FloatArray, radius: 
         if shapely.Polygon(ring).is_valid:
             return ring
     return None
-
-
-def _speck(edge: Edge, radius: float) -> bool:
-    """Whether an edge is a loop from a node back to it no longer than `SPECK_LENGTH` radii:
-    a piece of two or three points whose ends both met one junction, which encloses nothing
-    (its points still belong to the outline)."""
-    length = np.linalg.norm(np.diff(edge.xy, axis=0), axis=1).sum()
-    return edge.start == edge.end and length <= SPECK_LENGTH * radius
-
-
-def _without_bubbles(comp: list[int], edges: list[Edge], radius: float) -> list[int]:
-    """The component with each bubble collapsed: two edges between the same two nodes, no
-    longer than `BUBBLE_LENGTH` radii and within `BUBBLE_WIDTH` radii of each other, become
-    one edge along the middle between them (in ``edges``, in place of the first). They are one
-    wall that the march drew twice by a junction, or a slit's two walls that it followed
-    apart for a few radii; their points still belong to the outline, and a stem through the
-    bubble is walked out and back along the middle. A longer chord beside a wall is left to
-    `outer_edges`."""
-    out = list(comp)
-    for i, a in enumerate(comp):
-        for b in comp[i + 1:]:
-            ea, eb = edges[a], edges[b]
-            if (a not in out or b not in out or ea.start == ea.end
-                    or {ea.start, ea.end} != {eb.start, eb.end}):
-                continue
-            la, lb = shapely.LineString(ea.xy), shapely.LineString(eb.xy)
-            if (max(la.length, lb.length) <= BUBBLE_LENGTH * radius
-                    and la.hausdorff_distance(lb) <= BUBBLE_WIDTH * radius):
-                other = eb.xy if eb.start == ea.start else eb.xy[::-1]
-                edges[a] = Edge(_middle(ea.xy, other), ea.start, ea.end, ea.piece)
-                out.remove(b)
-    return out
-
-
-def _middle(a: FloatArray, b: FloatArray) -> FloatArray:
-    """The polyline halfway between two with the same ends, point by point at equal shares of
-    their lengths (as many points as the longer has)."""
-    share = np.linspace(0.0, 1.0, max(len(a), len(b)))
-    along = [shapely.line_interpolate_point(shapely.LineString(xy), share, normalized=True)
-             for xy in (a, b)]
-    return (shapely.get_coordinates(along[0]) + shapely.get_coordinates(along[1])) / 2
 
 
 def _inner_covered(ring: FloatArray, inner: list[int], edges: list[Edge], members: FloatArray,
