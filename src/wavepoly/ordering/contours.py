@@ -344,7 +344,8 @@ def _extend_ends(xy: FloatArray, members: FloatArray, radius: float) -> FloatArr
 def sharpen_corners(xy: FloatArray, closed: bool, pts_tree: cKDTree, radius: float
                     ) -> FloatArray:
     """Replace each run of turning points by the intersection of the straight legs beside it,
-    where that corner lies within a radius of the run and half a radius of the data."""
+    where that corner lies within a radius of the run and half a radius of the data. A closed
+    chain whose corners would enclose no area is left as it is."""
     n = len(xy)
     if n < MIN_CORNER_NODES:
         return xy
@@ -374,14 +375,24 @@ def sharpen_corners(xy: FloatArray, closed: bool, pts_tree: cKDTree, radius: flo
             keep[run] = False
             keep[run[0]] = True
             new_xy[run[0]] = point
-    return new_xy[keep]
+    sharp = new_xy[keep]
+    if closed and not abs(_shoelace(sharp)) > 0:
+        return xy  # a small ring all corners: its runs met at one point, which holds nothing
+    return sharp
+
+
+def _shoelace(xy: FloatArray) -> float:
+    """Twice the signed area of a closed polyline (0 below three points)."""
+    x, y = xy[:, 0], xy[:, 1]
+    return float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
 
 
 def _intersect(a0, a1, b0, b1) -> FloatArray | None:
-    """Intersection of line a0a1 with line b0b1 if they cross at more than `MIN_LEG_ANGLE`."""
+    """Intersection of line a0a1 with line b0b1 if they cross at more than `MIN_LEG_ANGLE` (a
+    leg of no length crosses nothing)."""
     da, db = a1 - a0, b1 - b0
     cross = da[0] * db[1] - da[1] * db[0]
-    if abs(cross) < np.sin(np.radians(MIN_LEG_ANGLE)) * np.linalg.norm(da) * np.linalg.norm(db):
+    if not abs(cross) > np.sin(np.radians(MIN_LEG_ANGLE)) * np.linalg.norm(da) * np.linalg.norm(db):
         return None
     t = ((b0 - a0)[0] * db[1] - (b0 - a0)[1] * db[0]) / cross
     return a0 + t * da
