@@ -11,7 +11,7 @@ from shapely import affinity
 import wavepoly
 from wavepoly.geometry import polyline_length
 from wavepoly.ordering.stems import close_outlines
-from wavepoly.samples import sample_rings
+from wavepoly.samples import glyph_outlines, sample_rings
 from wavepoly.types import OrderedContour
 
 from .conftest import distance_to_output
@@ -401,6 +401,19 @@ def test_a_stem_whose_zigzag_tip_met_itself_is_walked_out_and_back():
     out = close_outlines([OrderedContour(ring[::5], True, np.arange(628)), stroke], pts, radius)
     polygon = _one_simple_ring(out)
     assert shapely.distance(polygon.exterior, shapely.Point(0.5, 0.0)) < radius
+
+
+def test_a_serif_y_at_a_coarse_tolerance_keeps_its_ball_terminal():
+    """Computer Modern's 'y' at ε 0.8 (its hairlines under half an ε): a tip loop opened
+    among open pieces alone let a reading close that split the ball terminal off at a
+    hairline, and that reading won (`bubbles.without_tip_loops` opens loops only beside a
+    ring the march closed)."""
+    shape = glyph_outlines("y", height=20.0, family="cmr10")
+    pts = sample_rings(shape.rings, spacing=0.1, noise=0.1, seed=13)
+    result = wavepoly.fit(pts, 0.8)
+    assert [c.closed for c in result.contours] == [True]
+    assert independent_problems(result) == [] and len(result.outliers) == 0
+    assert distance_to_output(pts, result).max() <= 0.8 * (1 + 1e-9)
 
 
 def test_a_lone_piece_that_zigzags_between_two_walls_is_walked_along_its_middle():

@@ -64,7 +64,8 @@ def without_bubbles(comp: list[int], edges: list[Edge], radius: float) -> list[i
     return out
 
 
-def without_tip_loops(comp: list[int], edges: list[Edge], radius: float) -> None:
+def without_tip_loops(comp: list[int], edges: list[Edge], radius: float,
+                      rings: frozenset[int] = frozenset()) -> None:
     """Each tip loop of the component opened into a stem's tip (in ``edges``, in place): a
     loop edge at a node that only one other edge leaves, as thin and short as a bubble
     (`without_bubbles`), becomes an edge from that node along the middle of the loop's two
@@ -72,9 +73,14 @@ def without_tip_loops(comp: list[int], edges: list[Edge], radius: float) -> None
     than the radius and its chain's first node met a node a few steps on (a noisy bitmap's
     slit, 1 tolerance wide: a loop of 6 nodes at the tip of the stroke down the slit), which
     closed a loop where the walls run as one stem. Loops are opened only where the rest of
-    the component holds a cycle: a lone thin ring's piece whose end met its own far part is a
-    loop with a tail (the ring `_thin_ring` walks), and a band's zigzag that met itself at
-    both ends two loops joined by a bar."""
+    the component holds a ring the march closed (its piece among ``rings``), and cycles
+    longer than its stems and tips together, as an outline is longer than the slits cut
+    into it: a lone thin ring's piece whose end met its own far part is a loop with a tail
+    (the ring `_thin_ring` walks), a band's zigzag that met itself at both ends two loops
+    joined by a bar, and an outline drawn as one piece whose ends each met it a few nodes on
+    (scikit-image's horse) a long bar between two small loops, which walked out and back
+    drew the outline twice. Among open pieces alone, a loop opened let a reading of a
+    serif 'y' close that split its ball terminal off at a hairline, and that reading won."""
     degree = degrees(comp, edges)
     tips = {}
     for k in comp:
@@ -88,11 +94,21 @@ def without_tip_loops(comp: list[int], edges: list[Edge], radius: float) -> None
                 and la.hausdorff_distance(lb) <= BUBBLE_WIDTH * radius):
             tips[k] = _middle(out, back)
     rest = [k for k in comp if k not in tips]
-    if not tips or not rest or bridges(rest, edges) == set(rest):
+    if not tips or not rest:
+        return
+    stems = bridges(rest, edges)
+    if not any(edges[k].piece in rings for k in rest if k not in stems):
+        return
+    cycles = sum(_length(edges[k].xy) for k in rest if k not in stems)
+    if cycles <= sum(_length(edges[k].xy) for k in stems) + sum(map(_length, tips.values())):
         return
     fresh = 1 + max(max(e.start, e.end) for e in edges)
     for n, (k, xy) in enumerate(tips.items()):
         edges[k] = Edge(xy, edges[k].start, fresh + n, edges[k].piece)
+
+
+def _length(xy: FloatArray) -> float:
+    return float(np.linalg.norm(np.diff(xy, axis=0), axis=1).sum())
 
 
 def _middle(a: FloatArray, b: FloatArray) -> FloatArray:

@@ -131,7 +131,8 @@ def _closed_components(contours: list[OrderedContour], pick: list[int], points: 
         if all(contours[k].closed for k in taken):
             continue
         members = np.sort(np.concatenate([contours[k].members for k in taken]))
-        ring = _outline(comp, edges, points[members], radius, density)
+        ring = _outline(comp, edges, points[members], radius, density,
+                        frozenset(np.flatnonzero(closed_lines).tolist()))
         if ring is not None:
             used.update(taken)
             closed.append(OrderedContour(ring, True, members))
@@ -196,11 +197,12 @@ def _slit_to_a_dead_end(lines: list[FloatArray], closed: list[bool], met: list[J
 
 
 def _outline(comp: list[int], edges: list[Edge], members: FloatArray, radius: float,
-             density: float = 0.0) -> FloatArray | None:
+             density: float = 0.0, rings: frozenset[int] = frozenset()) -> FloatArray | None:
     """The closed walk of a component that is one cycle with stems, or of a lone piece that
-    is a thin ring (`_thin_ring`), or None."""
+    is a thin ring (`_thin_ring`), or None. ``rings``: the pieces (`Edge.piece`) that were
+    closed contours."""
     comp = without_bubbles([k for k in comp if not is_speck(edges[k], radius)], edges, radius)
-    without_tip_loops(comp, edges, radius)
+    without_tip_loops(comp, edges, radius, rings)
     if not comp:
         return None
     stems = bridges(comp, edges)
