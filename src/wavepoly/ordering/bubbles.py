@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
+from ..geometry import polyline_length
 from ..types import FloatArray
 from .piece_graph import Edge, bridges, degrees
 
@@ -88,9 +89,11 @@ def without_tip_loops(comp: list[int], edges: list[Edge], radius: float,
         if e.start != e.end or degree[e.start] != 3:
             continue
         far = int(np.argmax(np.linalg.norm(e.xy - e.xy[0], axis=1)))
+        if not 0 < far < len(e.xy) - 1:
+            continue  # a loop of one point, which encloses nothing
         out, back = e.xy[:far + 1], e.xy[far:][::-1]
         la, lb = shapely.LineString(out), shapely.LineString(back)
-        if (0 < far < len(e.xy) - 1 and la.length + lb.length <= BUBBLE_LENGTH * radius
+        if (la.length + lb.length <= BUBBLE_LENGTH * radius
                 and la.hausdorff_distance(lb) <= BUBBLE_WIDTH * radius):
             tips[k] = _middle(out, back)
     rest = [k for k in comp if k not in tips]
@@ -99,16 +102,15 @@ def without_tip_loops(comp: list[int], edges: list[Edge], radius: float,
     stems = bridges(rest, edges)
     if not any(edges[k].piece in rings for k in rest if k not in stems):
         return
-    cycles = sum(_length(edges[k].xy) for k in rest if k not in stems)
-    if cycles <= sum(_length(edges[k].xy) for k in stems) + sum(map(_length, tips.values())):
+    def length(xy: FloatArray) -> float:
+        return polyline_length(xy, False)
+
+    cycles = sum(length(edges[k].xy) for k in rest if k not in stems)
+    if cycles <= sum(length(edges[k].xy) for k in stems) + sum(map(length, tips.values())):
         return
     fresh = 1 + max(max(e.start, e.end) for e in edges)
     for n, (k, xy) in enumerate(tips.items()):
         edges[k] = Edge(xy, edges[k].start, fresh + n, edges[k].piece)
-
-
-def _length(xy: FloatArray) -> float:
-    return float(np.linalg.norm(np.diff(xy, axis=0), axis=1).sum())
 
 
 def _middle(a: FloatArray, b: FloatArray) -> FloatArray:
