@@ -102,11 +102,9 @@ def without_tip_loops(comp: list[int], edges: list[Edge], radius: float,
     stems = bridges(rest, edges)
     if not any(edges[k].piece in rings for k in rest if k not in stems):
         return
-    def length(xy: FloatArray) -> float:
-        return polyline_length(xy, False)
-
-    cycles = sum(length(edges[k].xy) for k in rest if k not in stems)
-    if cycles <= sum(length(edges[k].xy) for k in stems) + sum(map(length, tips.values())):
+    cycles = sum(polyline_length(edges[k].xy, False) for k in rest if k not in stems)
+    if cycles <= sum(polyline_length(xy, False)
+                     for xy in [edges[k].xy for k in stems] + list(tips.values())):
         return
     fresh = 1 + max(max(e.start, e.end) for e in edges)
     for n, (k, xy) in enumerate(tips.items()):

@@ -14,7 +14,7 @@ import shapely
 from scipy.spatial import cKDTree
 
 from ..geometry import nearest_segment, nearest_site, polyline_length
-from ..types import Chain, FloatArray, IntArray, OrderedContour
+from ..types import Chain, Contour, FloatArray, IntArray, OrderedContour
 from .folds import unfold_rings
 from .gaps import close_gaps
 from .marching import CORNER_TURN, SIDE_CHAIN_REACH, turning
@@ -376,15 +376,9 @@ def sharpen_corners(xy: FloatArray, closed: bool, pts_tree: cKDTree, radius: flo
             keep[run[0]] = True
             new_xy[run[0]] = point
     sharp = new_xy[keep]
-    if closed and not abs(_shoelace(sharp)) > 0:
+    if closed and not abs(Contour(sharp, True).signed_area) > 0:
         return xy  # a small ring all corners: its runs met at one point, which holds nothing
     return sharp
-
-
-def _shoelace(xy: FloatArray) -> float:
-    """Twice the signed area of a closed polyline (0 below three points)."""
-    x, y = xy[:, 0], xy[:, 1]
-    return float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
 
 
 def _intersect(a0, a1, b0, b1) -> FloatArray | None:

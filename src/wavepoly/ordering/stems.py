@@ -125,14 +125,14 @@ def _closed_components(contours: list[OrderedContour], pick: list[int], points: 
     met = _along_points(junctions(lines, closed_lines, radius), lines, closed_lines, points,
                         radius)
     edges, node_xy = piece_graph(lines, closed_lines, radius, met=met)
+    closed_pieces = frozenset(np.flatnonzero(closed_lines).tolist())
     closed, used = [], set()
     for comp in components(edges, len(node_xy)):
         taken = sorted({pick[edges[k].piece] for k in comp})
         if all(contours[k].closed for k in taken):
             continue
         members = np.sort(np.concatenate([contours[k].members for k in taken]))
-        ring = _outline(comp, edges, points[members], radius, density,
-                        frozenset(np.flatnonzero(closed_lines).tolist()))
+        ring = _outline(comp, edges, points[members], radius, density, closed_pieces)
         if ring is not None:
             used.update(taken)
             closed.append(OrderedContour(ring, True, members))
