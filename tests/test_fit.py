@@ -6,6 +6,8 @@ output polygons, measured with shapely, is within the tolerance.
 
 from __future__ import annotations
 
+import sys
+
 import numpy as np
 import pytest
 import shapely
@@ -321,3 +323,21 @@ def test_outliers_that_are_specks_say_so():
     assert any(n.startswith("12 of the 12 outlier(s) lie in 3 speck(s)") and "(40, 0)" in n
                for n in res.notes)
     assert not any("speck" in n for n in wavepoly.fit(ring, 2.0).notes)
+
+
+def test_points_a_later_step_loses_are_listed_with_the_outliers(monkeypatch):
+    """The guarantee is checked over every input point, not per contour: a contour that a
+    step after the fits drops (here the junction step, made to drop the hole of an 'O') leaves
+    its points listed as outliers, with a note, never silently beyond the tolerance."""
+    pts = sample_rings(glyph_outlines("O").rings, spacing=0.02, noise=0.0, seed=3)
+    assert not len(wavepoly.fit(pts, EPS).outliers)
+
+    def drop_the_hole(contours, tolerance):
+        return [max(contours, key=lambda c: abs(c.signed_area))], []
+
+    monkeypatch.setattr(sys.modules["wavepoly.fit"], "meet_at_junctions", drop_the_hole)
+    result = wavepoly.fit(pts, EPS)
+    assert len(result.contours) == 1
+    assert len(result.outliers) > len(pts) / 4  # the hole's points
+    check_within_tolerance(pts, result)
+    assert any("farther than the tolerance from the output" in n for n in result.notes)

@@ -17,7 +17,13 @@ import numpy as np
 import shapely
 
 from .errors import ParameterError
-from .geometry import curve_line, nest_contours, orient_by_depth, polyline_distance
+from .geometry import (
+    nest_contours,
+    orient_by_depth,
+    polyline_distance,
+    polyline_segments,
+    segments_distance,
+)
 from .junctions import meet_at_junctions
 from .levels import decompose_contour
 from .ordering import SPACINGS_PER_RADIUS, order_points
@@ -29,6 +35,7 @@ from .reconstruction import reconstruct_contour
 from .stubs import STUB_LENGTH, redundant_stubs
 from .types import (
     DEFAULT_RELATIVE_TOLERANCE,
+    SLACK,
     Contour,
     ContourReport,
     FitResult,
@@ -151,7 +158,7 @@ def fit(points: FloatArray, tolerance: float, *,
     contours, reports = join_at_ends(contours, reports)
     if n_stubs or grown or len(contours) < n_pieces:  # the counts, or the junctions, change
         validity = check_contours(contours)
-    outliers, covered_error = _outliers_left(pts, ordering.outliers, contours, tolerance)
+    outliers, lost, covered_error = _outliers_left(pts, ordering.outliers, contours, tolerance)
     parents = nest_contours(contours)
     contours = orient_by_depth(contours, parents)
     errors = np.concatenate([[c.max_error] for c in contours] + [[stub_error, covered_error]])
@@ -161,7 +168,7 @@ def fit(points: FloatArray, tolerance: float, *,
     mean = (sum(c.mean_error * r.input_points for c, r, once in zip(contours, reports, counted)
                 if once) / n_members if n_members else 0.0)
     timings["verification"] += time.perf_counter() - t0
-    notes = list(ordering.notes)
+    notes = list(ordering.notes) + _lost_notes(pts, lost)
     if n_stubs:
         notes.append(f"{n_stubs} open stub(s) shorter than {STUB_LENGTH:g} x "
                      "the tolerance left out: other contours hold their points within it")
@@ -320,25 +327,45 @@ def _without_stubs(points: FloatArray, outliers: IntArray, contours: list[Contou
 
 
 def _outliers_left(points: FloatArray, outliers: IntArray, contours: list[Contour],
-                   tolerance: float) -> tuple[IntArray, float]:
-    """The outliers that no output contour passes within ``tolerance`` of, and the largest
-    distance of the others to the output.
+                   tolerance: float) -> tuple[IntArray, IntArray, float]:
+    """The guarantee checked over every input point: the outliers that no output contour
+    passes within ``tolerance`` of, the points the ordering kept that the output lost, and the
+    largest distance of the points within the tolerance to the output.
 
     The ordering lists as outliers the points far from their own chain; some of them (strays
     beside a wall, the foot of a wall meeting another) lie within the tolerance of the polygons
-    drawn all the same, and the guarantee holds for them.
+    drawn all the same, and the guarantee holds for them. Each contour's fit verifies its own
+    members, but the steps after it (junctions, noding, stubs) and a contour dropped whole
+    could leave a point out: such a point is listed with the outliers, never left silently
+    beyond the tolerance.
     """
-    if not len(outliers) or not contours:
-        return outliers, 0.0
-    tree = shapely.STRtree([curve_line(c.vertices, c.closed) for c in contours])
-    where = shapely.points(points[outliers])
-    point, line = tree.query(where, predicate="dwithin", distance=tolerance)
-    if not len(point):
-        return outliers, 0.0
-    gap = np.full(len(outliers), np.inf)
-    np.minimum.at(gap, point, shapely.distance(where[point], tree.geometries[line]))
-    covered = np.isfinite(gap)
-    return outliers[~covered], float(gap[covered].max())
+    if not contours:
+        return np.arange(len(points)), np.setdiff1d(np.arange(len(points)), outliers), 0.0
+    a, b = _output_segments(contours)
+    dist = segments_distance(points, a, b, limit=tolerance * (1 + SLACK))
+    beyond = dist > tolerance * (1 + SLACK)  # as `within` tests it
+    listed = np.zeros(len(points), dtype=bool)
+    listed[outliers] = True
+    covered = dist[~beyond]
+    return (np.flatnonzero(beyond), np.flatnonzero(beyond & ~listed),
+            float(covered.max()) if len(covered) else 0.0)
+
+
+def _lost_notes(points: FloatArray, lost: IntArray) -> list[str]:
+    """A note on the points that the ordering kept and the output lost (`_outliers_left`)."""
+    if not len(lost):
+        return []
+    x, y = points[lost[0]]
+    return [f"{len(lost)} point(s) that the ordering kept are farther than the tolerance from "
+            f"the output (the first at ({x:.6g}, {y:.6g})): listed with the outliers"]
+
+
+def _output_segments(contours: list[Contour]) -> tuple[FloatArray, FloatArray]:
+    """The start and end points of every edge of the output (a lone vertex as an edge of
+    no length)."""
+    ends = [polyline_segments(c.vertices, c.closed) if len(c.vertices) > 1
+            else (c.vertices, c.vertices) for c in contours]
+    return np.vstack([e[0] for e in ends]), np.vstack([e[1] for e in ends])
 
 
 def _speck_notes(points: FloatArray, outliers: IntArray, ordering: Ordering,
