@@ -73,3 +73,17 @@ def test_a_double_wall_far_from_the_scanner_is_two_lines():
             across += length[~steep].sum()
     assert along >= 2 * 3.2  # both faces, nearly all their length
     assert across <= 0.05 * (along + across)
+
+
+@pytest.mark.parametrize("family, char", [("STIXGeneral", "A"), ("cmr10", "A"), ("cmr10", "$")])
+def test_a_clean_glyph_at_a_coarse_tolerance_is_not_split_across(family, char):
+    """The test across a round neighbourhood's axis is a noisy scan's: on a clean glyph at
+    ε 0.8 (hairlines under half an ε) it split the round nodes where two strokes meet, and
+    the 'A's counter or a '$''s closed into the outline."""
+    from wavepoly.samples import glyph_outlines, sample_rings
+
+    shape = glyph_outlines(char, height=20.0, family=family)
+    pts = sample_rings(shape.rings, spacing=0.1, noise=0.1, seed=13)
+    result = wavepoly.fit(pts, 0.8)
+    assert [c.closed for c in result.contours] == [True] * len(shape.rings)
+    assert independent_problems(result) == [] and len(result.outliers) == 0

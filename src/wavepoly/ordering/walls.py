@@ -51,16 +51,20 @@ TURNED_WEIGHT = 0.5
 SPLIT_ROUNDS = 3
 
 
-def split_two_walls(nodes: Nodes, atoms: Atoms, radius: float) -> Nodes:
-    """``nodes`` with each neighbourhood that spans two walls replaced by a node on each."""
+def split_two_walls(nodes: Nodes, atoms: Atoms, radius: float, across: bool = False) -> Nodes:
+    """``nodes`` with each neighbourhood that spans two walls replaced by a node on each.
+    ``across``: round neighbourhoods are tested across their principal axis too
+    (`_across_round`; a noisy scan's)."""
     wide = np.flatnonzero(nodes.spread > SPLIT_SPREAD * radius)
     if not len(wide):
         return nodes
     offsets = perpendicular_offsets(nodes.xy[wide], nodes.tangent[wide], atoms, nodes.reach)
     sides = _sides(nodes.xy[wide], nodes.tangent[wide], atoms, nodes.reach, offsets)
     split = _two_walls(sides, radius)
-    weight = np.bincount(offsets.owner, offsets.weight, len(wide))
-    sides, split, tangent = _across_round(nodes, wide, split, sides, weight, atoms, radius)
+    tangent = nodes.tangent
+    if across:
+        weight = np.bincount(offsets.owner, offsets.weight, len(wide))
+        sides, split, tangent = _across_round(nodes, wide, split, sides, weight, atoms, radius)
     low, high, spread_low, spread_high, _, _ = sides
     if split.any():  # walls run side by side for a while; a few such nodes are chance
         found = cKDTree(nodes.xy[wide[split]]).query_ball_point(
