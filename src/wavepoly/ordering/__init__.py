@@ -227,7 +227,7 @@ def _read(pts: FloatArray, radius: float, given: float, seed: int, min_points: i
     noisy = not clean
     if noisy:
         nodes = nodes_with_points(nodes, atoms, NODE_POINTS, DENSE_NODE)
-    nodes = split_two_walls(nodes, atoms, radius, across=noisy)
+    nodes = split_two_walls(nodes, atoms, radius, noisy=noisy)
     keep = thin(nodes.xy, radius / 2, rng)
     nodes = Nodes(nodes.xy[keep], nodes.tangent[keep], nodes.ratio[keep], nodes.spread[keep],
                   nodes.reach, nodes.noise)
