@@ -50,7 +50,9 @@ ROUND_RATIO = 0.5
 #: of the wide neighbourhoods: a node between two walls holds about as much as a wall node.
 TURNED_WEIGHT = 0.5
 #: On a noisy scan each wall found is measured again over a window this many reaches along
-#: the line (either way), the points taken from a disc of `RECENTRE_REACH` reaches.
+#: the line (either way), short enough to stay on a straight stretch; the points are taken
+#: from a disc of `RECENTRE_REACH` reaches about the node, which holds the window: a wall
+#: found lies within a reach of the node, and the window reaches half the gap beyond it.
 RECENTRE_ALONG = 0.5
 RECENTRE_REACH = 2.0
 #: Rounds of two-means after the split at the mean: each moves the split to halfway between
@@ -111,13 +113,13 @@ def _recentred(centre: FloatArray, tangent: FloatArray, low: FloatArray, high: F
     along = np.einsum("nd,nd->n", atoms.xy[o.atom] - centre[o.owner], tangent[o.owner])
     half = 0.5 * (high - low)[o.owner]
     near = np.abs(along) <= RECENTRE_ALONG * reach
-    out = []
+    measured = []
     for side in (low, high):
-        m = near & (np.abs(o.offset - side[o.owner]) < half)
-        w = np.bincount(o.owner, np.where(m, o.weight, 0.0), len(centre))
-        mean = np.bincount(o.owner, np.where(m, o.weight * o.offset, 0.0), len(centre))
-        out.append(np.where(w > 0, mean / np.maximum(w, 1e-300), side))
-    return out[0], out[1]
+        weight = np.where(near & (np.abs(o.offset - side[o.owner]) < half), o.weight, 0.0)
+        total = np.bincount(o.owner, weight, len(centre))
+        moment = np.bincount(o.owner, weight * o.offset, len(centre))
+        measured.append(np.where(total > 0, moment / np.maximum(total, 1e-300), side))
+    return measured[0], measured[1]
 
 
 def _across_round(nodes: Nodes, wide: IntArray, split: np.ndarray, sides: tuple[FloatArray, ...],
