@@ -21,7 +21,6 @@ from .geometry import (
     nest_contours,
     orient_by_depth,
     polyline_distance,
-    polyline_segments,
     segments_distance,
 )
 from .junctions import meet_at_junctions
@@ -48,7 +47,7 @@ from .types import (
     within,
 )
 from .validate import check_relative_tolerance, check_tolerance, column_bounds, validate_points
-from .validity import check_contours, obstacle_tree, without_repeats
+from .validity import check_contours, contour_segments, obstacle_tree, without_repeats
 
 STAGES = ("ordering", "decomposition", "reconstruction", "verification")
 #: Points farther from the origin than this many times their extent are fitted about their own
@@ -363,8 +362,8 @@ def _lost_notes(points: FloatArray, lost: IntArray) -> list[str]:
 def _output_segments(contours: list[Contour]) -> tuple[FloatArray, FloatArray]:
     """The start and end points of every edge of the output (a lone vertex as an edge of
     no length)."""
-    ends = [polyline_segments(c.vertices, c.closed) if len(c.vertices) > 1
-            else (c.vertices, c.vertices) for c in contours]
+    ends = [contour_segments(c) if len(c.vertices) > 1 else (c.vertices, c.vertices)
+            for c in contours]
     return np.vstack([e[0] for e in ends]), np.vstack([e[1] for e in ends])
 
 
