@@ -139,3 +139,36 @@ def test_a_thin_hole_with_a_wall_under_the_outline_stays_a_hole(wall):
     points, rings = _body_and_pocket(wall)
     out = join_through_mouths(rings, points, RADIUS)
     assert len(out) == 2 and all(c.closed for c in out)
+
+
+def _ring_with_a_small_hole(gap: float, cut: float, seed: int) -> tuple[np.ndarray, float]:
+    """A disk 24 ε across with a round hole 4 ε across, ``gap`` ε from its outline, sampled
+    every ε / 3 at random with noise ε / 8; the outline's points left out over ``cut`` ε of
+    its length beside the hole (a gap a random sampling leaves now and then)."""
+    from wavepoly.samples import sample_rings
+
+    eps = 0.1
+    t = np.linspace(0, 2 * np.pi, 720, endpoint=False)
+    circle = np.column_stack([np.cos(t), np.sin(t)])
+    outer = 12 * eps * circle
+    hole = np.array([(12 - gap - 2) * eps, 0.0]) + 2 * eps * circle[::-1]
+    pts = sample_rings([outer, hole], spacing=eps / 3, noise=eps / 8, seed=seed)
+    beside = ((np.abs(np.arctan2(pts[:, 1], pts[:, 0])) < cut / 24)
+              & (np.hypot(pts[:, 0], pts[:, 1]) > 11.5 * eps))
+    return pts[~beside], eps
+
+
+@pytest.mark.parametrize("gap, cut, seed", [(1.6, 0.0, 0), (1.6, 2.0, 0), (1.9, 1.5, 1),
+                                            (1.9, 2.0, 2)])
+def test_a_small_round_hole_near_its_outline_stays_a_hole(gap, cut, seed):
+    """A ring inside a ring 1.6-1.9 ε from it: the hole, round and a couple of radii across,
+    had joined the outline as a notch closed off at its mouth (a pocket) where the outline's
+    points leave a gap beside it."""
+    pts, eps = _ring_with_a_small_hole(gap, cut, seed)
+    result = wavepoly.fit(pts, eps)
+    assert [c.closed for c in result.contours] == [True, True]
+    assert len(result.outliers) == 0
+    outer, hole = sorted((shapely.Polygon(c.vertices) for c in result.contours),
+                         key=lambda p: -p.area)
+    assert outer.contains(hole) and hole.area > 0.5 * np.pi * (2 * eps) ** 2
+    _valid(pts, result)

@@ -16,10 +16,11 @@ the same way, its walls drawn as a thin ring inside the outline: a hole where th
 notch. Such a *pocket* comes within a couple of radii of the outline and is a few radii wide
 at most; it joins the outline by the 2-opt move of least detour that takes out a stretch of
 the outline across the mouth (bare of points: no wall runs there) and whose links run along
-points. A true hole of a silhouette keeps a wall of its own between it and the outline, and a ring
-inside a ring (an annulus) is no thin ring. A slot hole that thin and that near its outline,
-with less than two radii of wall between them where the outline's points leave a gap, reads
-as a notch too (the lens that touches the beak's wall in the shared drawing f3): the points
+points. A true hole of a silhouette keeps a wall of its own between it and the outline, and a
+ring inside a ring (an annulus) is no thin ring; nor is a small round one (a letter's counter):
+a pocket is long for its width, as a slit's walls are. A slot hole that thin and that near its
+outline, with less than two radii of wall between them where the outline's points leave a gap,
+reads as a notch too (the lens that touches the beak's wall in the shared drawing f3): the points
 cannot tell the two apart at that scale, and the notch keeps them within the tolerance.
 
 References
@@ -74,6 +75,12 @@ POCKET_GAP = 2.0
 #: ear slit 1.0-2.2 tolerances, a made-up silhouette's closed-off slit 2.6; an annulus's inner
 #: ring is as wide as its radius).
 POCKET_WIDTH = 3.0
+#: ... and long: its length squared is more than this many times 4 pi its area (1 for a
+#: circle). A slit's walls closed off into a ring are long for their width (the closed-off
+#: slits and notches of the silhouette sweeps, the horse and the photographs: 1.42-9.8); a
+#: ring this round is a hole (a letter's counter on scikit-image's page, a small hole 1-2
+#: radii inside a blob's outline: 1.06-1.25), which its own wall of points keeps apart.
+POCKET_ROUNDNESS = 1.33
 #: Edges of the pocket tried for the move, the nearest to the ring around it first.
 POCKET_EDGES = 6
 #: The pass the move takes out of the ring around a pocket runs across its mouth, where no
@@ -157,13 +164,15 @@ def _first_join(contours: list[OrderedContour], points: FloatArray,
 def _first_pocket(contours: list[OrderedContour], points: FloatArray,
                   tree: Callable[[], cKDTree], radius: float
                   ) -> tuple[int, int, FloatArray] | None:
-    """The first pocket (`POCKET_GAP`, `POCKET_WIDTH`) that joins the ring around it, with the
-    joined ring: of the moves between its `POCKET_EDGES` edges nearest that ring and the
-    ring's edges within `MOUTH_REACH` radii of each that cross a mouth (`POCKET_BARE`), the
-    one of least detour whose two links run along points (`gaps.is_supported`)."""
+    """The first pocket (`POCKET_GAP`, `POCKET_WIDTH`, `POCKET_ROUNDNESS`) that joins the
+    ring around it, with the joined ring: of the moves between its `POCKET_EDGES` edges
+    nearest that ring and the ring's edges within `MOUTH_REACH` radii of each that cross a
+    mouth (`POCKET_BARE`), the one of least detour whose two links run along points
+    (`gaps.is_supported`)."""
     rings = [k for k, c in enumerate(contours) if c.closed and len(c.points) >= 4]
     polygons = [shapely.Polygon(contours[k].points) for k in rings]
-    thin = [i for i, p in enumerate(polygons) if 2 * p.area <= POCKET_WIDTH * radius * p.length]
+    thin = [i for i, p in enumerate(polygons) if 2 * p.area <= POCKET_WIDTH * radius * p.length
+            and p.length ** 2 > POCKET_ROUNDNESS * 4 * np.pi * p.area]
     if len(rings) < 2 or not thin:
         return None
     around = shapely.STRtree(polygons)  # the rings that may hold a pocket: those it lies in
