@@ -1,8 +1,9 @@
 """A hole by its outline's wall: the validity benchmark's sweep of holes whose corner comes
 within a tolerance of the outline (a thin wall between them), where the march runs from the
 outline into the hole and back (`wavepoly.ordering.shared_walls`, `wavepoly.ordering.waists`);
-and its converse, a keyhole: a slit from the outline into a round hole, one outline, which the
-march runs through the same way.
+its converse, a keyhole: a slit from the outline into a round hole, one outline, which the
+march runs through the same way; and small round holes a couple of tolerances from their
+outline, which must not join it as a notch or a limb (`wavepoly.ordering.mouths`).
 """
 
 from __future__ import annotations
@@ -28,6 +29,12 @@ HOLE_SEEDS = 12
 SLIT_WIDTHS = (1.0, 1.5, 2.0, 2.5)
 SLIT_NOISE = (0.0, 0.125, 0.25)
 SLIT_SEEDS = 8
+#: The small holes' sweep: gaps between hole and outline (in ε), the noise (in ε), the holes'
+#: diameters (in ε) and seeds of each (each seed moves the hole round the disk).
+SMALL_HOLE_GAPS = (1.25, 1.5, 2.0)
+SMALL_HOLE_NOISE = (0.0, 0.125, 0.25)
+SMALL_HOLE_SIZES = (4.0, 6.0)
+SMALL_HOLE_SEEDS = 8
 
 
 def hole_by_the_wall(gap: float, angle: float = 150.0, turn: float = 10.0, eps: float = 1.0
@@ -124,3 +131,48 @@ def hole_sweep(truth) -> str:
             "points alone a short slit from the outline into the hole, a keyhole, reads the "
             "same); *open*: results with an open piece.\n\n"
             + table(["gap", "noise", "right", "notch", "open", "invalid", "seconds"], rows))
+
+
+def small_hole(diameter: float, gap: float, angle: float, eps: float = 1.0
+               ) -> list[np.ndarray]:
+    """A disk 24 ε across and a round hole ``diameter`` ε across whose wall comes ``gap`` ε
+    from the disk's, towards ``angle`` degrees."""
+    t = np.linspace(0, 2 * np.pi, 360, endpoint=False)
+    circle = np.column_stack([np.cos(t), np.sin(t)])
+    towards = np.array([np.cos(np.radians(angle)), np.sin(np.radians(angle))])
+    centre = (12.0 - gap - diameter / 2) * eps * towards
+    return [12.0 * eps * circle, centre + diameter / 2 * eps * circle[::-1]]
+
+
+def small_hole_sweep(truth) -> str:
+    """For each gap and noise, fits of the small holes (`SMALL_HOLE_SIZES` x
+    `SMALL_HOLE_SEEDS` samplings every ε / 3): *right* (the outline and its hole, nested,
+    valid, no outliers), *joined* (one closed outline: the hole drawn as a notch of it) and
+    *invalid* (``truth.independent_problems``)."""
+    rows = []
+    for gap in SMALL_HOLE_GAPS:
+        for noise in SMALL_HOLE_NOISE:
+            right = joined = invalid = 0
+            t0 = time.perf_counter()
+            for size in SMALL_HOLE_SIZES:
+                for seed in range(SMALL_HOLE_SEEDS):
+                    rings = small_hole(size, gap, 360.0 * seed / SMALL_HOLE_SEEDS + 7.0)
+                    pts = sample_rings(rings, spacing=1 / 3, noise=noise, seed=seed)
+                    res = wavepoly.fit(pts, 1.0)
+                    closed = [c.closed for c in res.contours]
+                    bad = bool(truth.independent_problems(res))
+                    invalid += bad
+                    joined += closed == [True]
+                    right += (closed == [True, True] and sorted(res.parents) == [-1, 0]
+                              and not bad and len(res.outliers) == 0)
+            total = len(SMALL_HOLE_SIZES) * SMALL_HOLE_SEEDS
+            rows.append([f"{gap:g} ε", f"{noise:g} ε", f"{right}/{total}", joined, invalid,
+                         time.perf_counter() - t0])
+    return ("### Small holes\n\nA disk 24 ε across with a round hole 4 or 6 ε across whose "
+            "wall comes *gap* ε from the disk's, moved round it (`benchmarks/holes.py`), "
+            "sampled every ε / 3 at random with Gaussian noise: where the disk's points leave a "
+            "gap beside the hole (a random sampling does now and then), the hole reads like a "
+            "notch closed off at its mouth, or a limb closed across its root. *right*: the "
+            "outline and its hole, nested, valid, no outliers; *joined*: one closed outline, "
+            "the hole drawn as a notch of it.\n\n"
+            + table(["gap", "noise", "right", "joined", "invalid", "seconds"], rows))
