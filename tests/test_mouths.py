@@ -159,11 +159,12 @@ def _ring_with_a_small_hole(gap: float, cut: float, seed: int) -> tuple[np.ndarr
 
 
 @pytest.mark.parametrize("gap, cut, seed", [(1.6, 0.0, 0), (1.6, 2.0, 0), (1.9, 1.5, 1),
-                                            (1.9, 2.0, 2)])
+                                            (1.9, 2.0, 2), (1.3, 1.5, 1), (1.6, 1.5, 0)])
 def test_a_small_round_hole_near_its_outline_stays_a_hole(gap, cut, seed):
-    """A ring inside a ring 1.6-1.9 ε from it: the hole, round and a couple of radii across,
-    had joined the outline as a notch closed off at its mouth (a pocket) where the outline's
-    points leave a gap beside it."""
+    """A ring inside a ring 1.3-1.9 ε from it: the hole, round and a couple of radii across,
+    had joined the outline where the outline's points leave a gap beside it, as a notch
+    closed off at its mouth (a pocket), or (the last two) as a limb whose cap, two of the
+    hole's edges, turned no more than the small ring bends everywhere."""
     pts, eps = _ring_with_a_small_hole(gap, cut, seed)
     result = wavepoly.fit(pts, eps)
     assert [c.closed for c in result.contours] == [True, True]

@@ -47,6 +47,11 @@ from .untangle import untangle
 #: root: 121 and 60); ordered points half a radius to a radius apart turn by some 20 degrees
 #: each on a blob a few radii across.
 CAP_TURN = 45.0
+#: ... and by this many times what its own bend gives a chord that long (the median turn of
+#: its nodes): on a small round ring (a hole 4 ε across) every node turns 25-30 degrees, and
+#: any chord over two edges turns 45 into it; a limb's walls and a keyhole's round chamber
+#: turn 5-10 degrees a node, and their caps 60-120.
+CAP_CONTRAST = 3.0
 #: A cap spans at most this many edges: one across the root, or two meeting in a V.
 CAP_EDGES = 2
 #: A pass turns by at most this at either end, over one edge and over two.
@@ -239,12 +244,15 @@ def _segments(xy: FloatArray) -> np.ndarray:
 
 def _caps(xy: FloatArray) -> list[tuple[int, int]]:
     """Caps (e, k): chords from xy[e] to xy[e + k] over `CAP_EDGES` edges or fewer, into
-    and out of which the ring turns by `CAP_TURN` or more the same way. A cap of two edges is
-    a root closed in a V (its tip by the other ring's wall)."""
+    and out of which the ring turns by `CAP_TURN` or more the same way, and `CAP_CONTRAST`
+    times what the ring's median turn gives over (k + 1) / 2 nodes. A cap of two edges is a
+    root closed in a V (its tip by the other ring's wall)."""
     caps: list[tuple[int, int]] = []
+    bend = float(np.median(np.abs(_turns(xy, 1)[0])))
     for k in range(1, CAP_EDGES + 1):
+        least = max(CAP_TURN, CAP_CONTRAST * bend * (k + 1) / 2)
         before, after = _chord_turns(xy, k)
-        cap = (np.abs(before) >= CAP_TURN) & (np.abs(after) >= CAP_TURN) & (before * after > 0)
+        cap = (np.abs(before) >= least) & (np.abs(after) >= least) & (before * after > 0)
         caps += [(int(e), k) for e in np.flatnonzero(cap)]
     return caps
 
