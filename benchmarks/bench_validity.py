@@ -17,7 +17,7 @@ from wavepoly.samples import TrueShape, glyph_outlines, sample_rings
 
 from .coarse import coarse_sweep
 from .common import ROOT, SHARED, table
-from .holes import hole_sweep, keyhole_sweep, small_hole_sweep
+from .holes import blob_hole_sweep, hole_sweep, keyhole_sweep, small_hole_sweep
 from .near_rings import near_rings_sweep
 from .silhouettes import DRAWS_NEAR, MIN_RING_EXTENT, drawn_rings
 from .specks import specks_sweep
@@ -182,7 +182,7 @@ def run() -> str:
             + "\n\n" + near_rings_sweep(truth) + "\n\n" + specks_sweep(truth)
             + "\n\n" + hole_sweep(truth)
             + "\n\n" + keyhole_sweep(truth)
-            + "\n\n" + small_hole_sweep(truth)
+            + "\n\n" + small_hole_sweep(truth) + "\n\n" + blob_hole_sweep(truth, _one_per_ring)
             + "\n\n" + unseen_sweep(truth, _one_per_ring) + "\n\n" + coarse_sweep(truth)
             + "\n\n" + laser_sweep())
 

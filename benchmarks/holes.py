@@ -3,7 +3,8 @@ within a tolerance of the outline (a thin wall between them), where the march ru
 outline into the hole and back (`wavepoly.ordering.shared_walls`, `wavepoly.ordering.waists`);
 its converse, a keyhole: a slit from the outline into a round hole, one outline, which the
 march runs through the same way; and small round holes a couple of tolerances from their
-outline, which must not join it as a notch or a limb (`wavepoly.ordering.mouths`).
+outline, alone in a disk or in round blobs, which must not join it as a notch or a limb
+(`wavepoly.ordering.mouths`).
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ import wavepoly
 from wavepoly.samples import sample_rings
 
 from .common import table
+from .silhouettes import judged, sample
 
 #: The sweep: the wall's thinnest (the gap between the hole's corner and the outline, in ε),
 #: the noise (in ε), and seeds of each (each seed turns the hole and moves it along the wall).
@@ -35,6 +37,10 @@ SMALL_HOLE_GAPS = (1.25, 1.5, 2.0)
 SMALL_HOLE_NOISE = (0.0, 0.125, 0.25)
 SMALL_HOLE_SIZES = (4.0, 6.0)
 SMALL_HOLE_SEEDS = 8
+#: Round blobs: (ε as a share of 3 units, about a scene's diagonal; noise in ε), each over
+#: `BLOB_SCENES` scenes of 1 to 3 blobs 0.5-1.2 units across, some with a hole.
+BLOB_SAMPLINGS = ((60, 0.125), (60, 0.25), (100, 0.25))
+BLOB_SCENES = 40
 
 
 def hole_by_the_wall(gap: float, angle: float = 150.0, turn: float = 10.0, eps: float = 1.0
@@ -176,3 +182,64 @@ def small_hole_sweep(truth) -> str:
             "outline and its hole, nested, valid, no outliers; *joined*: one closed outline, "
             "the hole drawn as a notch of it.\n\n"
             + table(["gap", "noise", "right", "joined", "invalid", "seconds"], rows))
+
+
+def round_blob(rng: np.random.Generator, centre: np.ndarray, size: float) -> shapely.Polygon:
+    """A star-shaped blob ``size`` in mean radius whose radius wanders with the angle (a
+    Fourier series of orders 2-8, amplitudes falling as the order grows)."""
+    t = np.linspace(0, 2 * np.pi, 400, endpoint=False)
+    r = np.ones_like(t)
+    for k in range(2, 9):
+        r += rng.normal(0, 0.35 / k ** 1.2) * np.cos(k * t + rng.uniform(0, 2 * np.pi))
+    r = np.clip(r, 0.15, None)
+    return shapely.Polygon(np.column_stack([centre[0] + size * r * np.cos(t),
+                                            centre[1] + size * r * np.sin(t)])).buffer(0)
+
+
+def blob_scene(seed: int) -> list[np.ndarray]:
+    """The rings of 1 to 3 round blobs in a 2 x 2 square, apart, 4 in 10 with a small blob
+    cut out as a hole where it lies inside at least 0.03 units from the outline (often
+    within a couple of tolerances of it)."""
+    rng = np.random.default_rng(seed)
+    shapes: list[shapely.Polygon] = []
+    for _ in range(rng.integers(1, 4)):
+        for _attempt in range(20):
+            blob = round_blob(rng, rng.uniform(-1, 1, 2), rng.uniform(0.25, 0.6))
+            if all(blob.distance(other) > 0.03 for other in shapes):
+                break
+        else:
+            continue
+        if rng.uniform() < 0.4:
+            inner = round_blob(rng, np.asarray(blob.representative_point().coords[0]),
+                               rng.uniform(0.05, 0.15))
+            if blob.buffer(-0.03).contains(inner):
+                blob = blob.difference(inner)
+        if blob.geom_type == "Polygon":
+            shapes.append(blob)
+    return [np.asarray(r.coords)[:-1] for b in shapes for r in (b.exterior, *b.interiors)]
+
+
+def blob_hole_sweep(truth, right_rings) -> str:
+    """For each sampling, fits of `BLOB_SCENES` scenes of round blobs (`blob_scene`) sampled
+    every ε / 3: *right* (as the silhouette sweep counts it: ``right_rings``), *by shape*
+    (within 1.5 ε of the true outlines both ways) and *invalid*."""
+    rows = []
+    for div, noise in BLOB_SAMPLINGS:
+        eps = 3.0 / div
+        right = shaped = invalid = 0
+        t0 = time.perf_counter()
+        for seed in range(BLOB_SCENES):
+            rings = blob_scene(seed)
+            length = sum(shapely.LinearRing(r).length for r in rings)
+            res = wavepoly.fit(sample(rings, int(3 * length / eps), noise * eps, 1000 + seed),
+                               eps)
+            bad, by_rings, by_shape = judged(rings, res, eps, truth, right_rings, 1.5)
+            invalid, right, shaped = invalid + bad, right + by_rings, shaped + by_shape
+        rows.append([f"{eps:.3g}", f"{noise:g} ε", f"{right}/{BLOB_SCENES}",
+                     f"{shaped}/{BLOB_SCENES}", invalid, time.perf_counter() - t0])
+    return ("Round blobs (`benchmarks/holes.py`): 1 to 3 blobs 0.5-1.2 units across in a 2 x 2 "
+            "square, their radius wandering with the angle, 4 in 10 with a small round hole "
+            "0.1-0.3 units across that often comes within a couple of tolerances of its "
+            "outline; sampled every ε / 3 at random with Gaussian noise. *right* and *by "
+            "shape* as the unseen silhouettes count them.\n\n"
+            + table(["ε", "noise", "right", "by shape", "invalid", "seconds"], rows))

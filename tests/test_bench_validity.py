@@ -85,3 +85,28 @@ def test_a_ring_is_drawn_alone_by_one_closed_contour_of_its_own():
     for contours, alone in cases:
         draws = drawn_rings(rings, contours, eps=1.0)
         assert drawn_alone(draws, np.array([c.closed for c in contours])) == alone
+
+
+def test_a_small_hole_comes_its_gap_from_the_disk_wall():
+    from benchmarks.holes import small_hole
+
+    disk, hole = (shapely.Polygon(r) for r in small_hole(4.0, 1.5, 30.0))
+    assert disk.contains(hole)
+    assert abs(disk.exterior.distance(hole.exterior) - 1.5) < 0.01
+    assert abs(hole.length - 4.0 * np.pi) < 0.01
+
+
+def test_round_blob_scenes_are_apart_with_their_holes_inside():
+    from benchmarks.holes import blob_scene
+
+    holes = 0
+    for seed in range(12):
+        polygons = [shapely.Polygon(r) for r in blob_scene(seed)]
+        assert all(p.is_valid for p in polygons)
+        for i, p in enumerate(polygons):
+            inside = [q for j, q in enumerate(polygons) if j != i and q.contains(p)]
+            assert len(inside) <= 1
+            holes += len(inside)
+        outers = [p for p in polygons if not any(q.contains(p) for q in polygons if q is not p)]
+        assert all(a.distance(b) > 0.03 for k, a in enumerate(outers) for b in outers[k + 1:])
+    assert holes >= 1
