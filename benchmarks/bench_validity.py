@@ -327,23 +327,15 @@ def blob_sweep() -> str:
     counted by rings as the silhouettes are, and by geometry (closed, valid, no outliers,
     within `BLOB_HAUSDORFF` ε of the truth), which forgives two blobs within a couple of ε of
     each other coming out as one outline."""
-    from .silhouettes import blobs, judged, sample
+    from .silhouettes import blobs, tally_fits
 
     truth = _truth()
     eps = BLOB_PIXELS * np.sqrt(2) / DIAGONAL_PER_TOLERANCE
     rows = []
     for size, noise in BLOB_ROWS:
-        by_rings = by_shape = invalid = 0
-        t0 = time.perf_counter()
-        for seed in range(BLOB_SEEDS):
-            rings = blobs(seed, size, BLOB_PIXELS)
-            length = sum(shapely.LinearRing(r).length for r in rings)
-            pts = sample(rings, int(3 * length / eps), noise * eps, seed)
-            res = wavepoly.fit(pts, eps)
-            bad, ringed, shaped = judged(rings, res, eps, truth, _one_per_ring, BLOB_HAUSDORFF)
-            invalid, by_rings, by_shape = invalid + bad, by_rings + ringed, by_shape + shaped
-        rows.append([f"{size:g}", f"{noise:g} ε", f"{by_rings}/{BLOB_SEEDS}",
-                     f"{by_shape}/{BLOB_SEEDS}", invalid, time.perf_counter() - t0])
+        images = [blobs(seed, size, BLOB_PIXELS) for seed in range(BLOB_SEEDS)]
+        rows.append([f"{size:g}", f"{noise:g} ε",
+                     *tally_fits(images, eps, noise, truth, _one_per_ring, BLOB_HAUSDORFF, 0)])
     return ("### Blob sweep\n\nRandom blobs in a 256-pixel image, as scikit-image's "
             "`binary_blobs` makes them (`benchmarks/silhouettes.py`: 7 to 40 rounded outlines "
             "per image, a few pixels to a third of the image across, touching one another now "

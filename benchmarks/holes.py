@@ -19,7 +19,7 @@ import wavepoly
 from wavepoly.samples import sample_rings
 
 from .common import table
-from .silhouettes import judged, sample
+from .silhouettes import tally_fits
 
 #: The sweep: the wall's thinnest (the gap between the hole's corner and the outline, in ε),
 #: the noise (in ε), and seeds of each (each seed turns the hole and moves it along the wall).
@@ -225,18 +225,9 @@ def blob_hole_sweep(truth, right_rings) -> str:
     (within 1.5 ε of the true outlines both ways) and *invalid*."""
     rows = []
     for div, noise in BLOB_SAMPLINGS:
-        eps = 3.0 / div
-        right = shaped = invalid = 0
-        t0 = time.perf_counter()
-        for seed in range(BLOB_SCENES):
-            rings = blob_scene(seed)
-            length = sum(shapely.LinearRing(r).length for r in rings)
-            res = wavepoly.fit(sample(rings, int(3 * length / eps), noise * eps, 1000 + seed),
-                               eps)
-            bad, by_rings, by_shape = judged(rings, res, eps, truth, right_rings, 1.5)
-            invalid, right, shaped = invalid + bad, right + by_rings, shaped + by_shape
-        rows.append([f"{eps:.3g}", f"{noise:g} ε", f"{right}/{BLOB_SCENES}",
-                     f"{shaped}/{BLOB_SCENES}", invalid, time.perf_counter() - t0])
+        scenes = [blob_scene(seed) for seed in range(BLOB_SCENES)]
+        rows.append([f"{3.0 / div:.3g}", f"{noise:g} ε",
+                     *tally_fits(scenes, 3.0 / div, noise, truth, right_rings, 1.5, 1000)])
     return ("Round blobs (`benchmarks/holes.py`): 1 to 3 blobs 0.5-1.2 units across in a 2 x 2 "
             "square, their radius wandering with the angle, 4 in 10 with a small round hole "
             "0.1-0.3 units across that often comes within a couple of tolerances of its "

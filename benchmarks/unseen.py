@@ -20,7 +20,7 @@ import shapely
 import wavepoly
 
 from .common import table
-from .silhouettes import drawn_rings, judged, sample, shape_distance, traced_mask
+from .silhouettes import drawn_rings, sample, shape_distance, tally_fits, traced_mask
 
 #: The horse's samplings: ε as a share of the image's diagonal, noise in ε, seeds of each.
 HORSE_DIVISIONS = (100, 150, 200)
@@ -96,15 +96,8 @@ def unseen_sweep(truth, right_rings) -> str:
 def _row(name: str, cases: list[list[np.ndarray]], eps: float, noise: float, truth,
          right_rings) -> list[object]:
     """One row of the table: each case's rings sampled (seed 1000 + its index) and fitted."""
-    right = shaped = invalid = 0
-    t0 = time.perf_counter()
-    for seed, rings in enumerate(cases):
-        length = sum(shapely.LinearRing(r).length for r in rings)
-        res = wavepoly.fit(sample(rings, int(3 * length / eps), noise * eps, 1000 + seed), eps)
-        bad, by_rings, by_shape = judged(rings, res, eps, truth, right_rings, SHAPE_HAUSDORFF)
-        invalid, right, shaped = invalid + bad, right + by_rings, shaped + by_shape
-    return [name, f"{eps:.3g} px", f"{noise:g} ε", f"{right}/{len(cases)}",
-            f"{shaped}/{len(cases)}", invalid, time.perf_counter() - t0]
+    return [name, f"{eps:.3g} px", f"{noise:g} ε",
+            *tally_fits(cases, eps, noise, truth, right_rings, SHAPE_HAUSDORFF, 1000)]
 
 
 def _photo_row(name: str, div: float, noise: float | None, truth) -> list[object]:
