@@ -4,9 +4,10 @@ Where a limb meets the body through a root a few radii wide, or a pocket opens t
 as narrow, the march can close the limb (the pocket) on itself across its root and run the
 body's outline straight past it: two closed rings where the truth is one. The limb's ring ends
 in a *cap*, an edge across the root (or two meeting in a V by the body's wall) where it turns
-sharply the same way at both ends (its two walls end there); the body's ring *passes* the
-root on a straight edge that is *bare*, with no points along it, since no wall runs across a
-root. Replacing the cap and the pass by the two links between their ends (a 2-opt move
+sharply the same way at both ends (its two walls end there), far more than it bends elsewhere
+(every chord of a small round ring turns as much); the body's ring *passes* the root on a
+straight edge that is *bare*, with no points along it, since no wall runs across a root.
+Replacing the cap and the pass by the two links between their ends (a 2-opt move
 between the rings) gives the one outline. Two rings of their own that come close (two blobs a
 tolerance apart) face each other along walls of points, and curve gently where they do, so
 they stay apart.
@@ -49,8 +50,9 @@ from .untangle import untangle
 CAP_TURN = 45.0
 #: ... and by this many times what its own bend gives a chord that long (the median turn of
 #: its nodes): on a small round ring (a hole 4 ε across) every node turns 25-30 degrees, and
-#: any chord over two edges turns 45 into it; a limb's walls and a keyhole's round chamber
-#: turn 5-10 degrees a node, and their caps 60-120.
+#: any chord over two edges turns 45 into it; the rings that joined at caps in the sweeps (a
+#: silhouette's limb, a random shape's, a keyhole's round chamber) turn 4-8 degrees a node in
+#: the median, and their caps 46-137.
 CAP_CONTRAST = 3.0
 #: A cap spans at most this many edges: one across the root, or two meeting in a V.
 CAP_EDGES = 2
