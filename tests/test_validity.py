@@ -230,6 +230,22 @@ def test_property_near_touching_and_nested_rings(gap, noise, nested, seed):
     assert len(result.outliers) == 0
 
 
+
+@settings(max_examples=10, deadline=None)
+@given(st.floats(1.5, 2.5), st.floats(4.0, 6.0), st.floats(0.0, 0.125), st.floats(0, 360),
+       st.integers(0, 10**6))
+def test_property_small_hole_near_its_outline(gap, size, noise, angle, seed):
+    """A round hole a few tolerances across, ``gap`` ε inside a disk's wall (the validity
+    benchmark's small holes): valid, within the tolerance, and the hole drawn as a hole."""
+    from benchmarks.holes import small_hole
+
+    pts = sample_rings(small_hole(size, gap, angle), spacing=1 / 3, noise=noise, seed=seed)
+    result = wavepoly.fit(pts, 1.0)
+    _valid(pts, result)
+    assert [c.closed for c in result.contours] == [True, True]
+    assert sorted(result.parents) == [-1, 0]
+    assert len(result.outliers) == 0
+
 # -- regression: the shared cases ---------------------------------------------------------------
 
 
