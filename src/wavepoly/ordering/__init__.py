@@ -12,7 +12,9 @@ Python loop runs over points:
    scan (bell-shaped scatter about the curves, `noise_level`) the neighbourhoods reach 5 x the
    noise instead, up to 4 x radius, so that the tangent follows the curve, not the scatter.
    A neighbourhood that spans two walls side by side (a laser map's double wall) becomes a
-   node on each wall (`walls`).
+   node on each wall; on a clean scan, a node whose wider window finds two parallel walls
+   running on side by side, closer than a reach and their scatter (rings 1.5 tolerances
+   apart, scattered a quarter of one), moves onto the nearer (`walls`).
 2. *Thinning*: a random (seeded) maximal set of centroids at least radius/2 apart is kept
    (Luby's parallel rounds), so consecutive ordered points are radius/2 .. radius apart, as
    one marching step would place them.
@@ -107,7 +109,7 @@ from .spacing import (
     spacing_bound,
 )
 from .strokes import stroke_contours
-from .walls import split_two_walls
+from .walls import onto_walls, split_two_walls
 
 #: Kurtosis of the perpendicular scatter below which a wide neighbourhood is two walls, not a
 #: band of points (two sharp walls: 1; a flat band: 1.8).
@@ -227,6 +229,8 @@ def _read(pts: FloatArray, radius: float, given: float, seed: int, min_points: i
     noisy = not clean
     if noisy:
         nodes = nodes_with_points(nodes, atoms, NODE_POINTS, DENSE_NODE)
+    else:  # a noisy scan's double walls split with a node on each (`split_two_walls`)
+        nodes = onto_walls(nodes, atoms, radius)
     nodes = split_two_walls(nodes, atoms, radius, noisy=noisy)
     keep = thin(nodes.xy, radius / 2, rng)
     nodes = Nodes(nodes.xy[keep], nodes.tangent[keep], nodes.ratio[keep], nodes.spread[keep],

@@ -14,6 +14,12 @@ here: a light ghost wall beside a dense one gives a heavy tail, as noise does.) 
 scan, a neighbourhood centred between two walls may be nearly round, its principal axis
 across them: it is tested across that axis too (`_across_round`); and each wall's offset is
 measured again over a window centred on it (`_recentred`).
+
+Where the walls are about a reach apart (rings 1.5 tolerances apart with noise a quarter of
+one), a neighbourhood spans both only where it is centred near the middle, and too few of them
+do so side by side to split. Each node is tested against the walls that a wider window finds
+about it (`onto_walls`): one whose neighbourhood took in the other wall's near edge, or both
+walls, moves onto the nearer wall, so that the march does not step between them.
 """
 
 from __future__ import annotations
@@ -23,7 +29,15 @@ from scipy.spatial import cKDTree
 
 from ..kernels import two_means_sides
 from ..types import FloatArray, IntArray
-from .neighbourhoods import Atoms, Nodes, Offsets, inner_scatter, perpendicular_offsets
+from .neighbourhoods import (
+    Atoms,
+    Nodes,
+    Offsets,
+    inner_scatter,
+    moments,
+    perpendicular_offsets,
+    principal_axes,
+)
 
 #: A neighbourhood is tested when its perpendicular spread exceeds this many radii: two walls
 #: a gap d apart spread d / 2, and walls closer than one radius are one curve to the tolerance.
@@ -55,6 +69,29 @@ TURNED_WEIGHT = 0.5
 #: found lies within a reach of the node, and the window reaches half the gap beyond it.
 RECENTRE_ALONG = 0.5
 RECENTRE_REACH = 2.0
+#: `onto_walls` moves nodes where the walls are closer than a reach and this many of a wall's
+#: spreads: a neighbourhood centred on one wall then takes in the other's band (its near
+#: two standard deviations). Farther apart (rings 2 tolerances apart), each wall's nodes
+#: see only their own, and the march keeps to it.
+NEAR_EDGE = 2.0
+#: It takes the walls' direction from a window of this many reaches about each node:
+#: a reach is too short to hold a stretch of each wall where they are a reach apart, and the
+#: principal axis of a node between them runs across them (variance ratio 0.6-0.9)...
+WALLS_WINDOW = 3.0
+#: ... and measures the walls across it within this many reaches, wide enough to hold both
+#: walls' whole bands (their means a reach apart, their scatter a quarter reach either way).
+WALLS_REACH = 1.5
+#: The two walls run side by side: their directions across the window differ by less than
+#: this (degrees). The walls of a narrow wedge do not (a glyph's arm meeting its stem at 40
+#: degrees, whose node at the fork joins the two).
+PARALLEL_WALLS = 15.0
+#: ... and run side by side for a long way: at least `WALLS_SHARE` of the nodes within this
+#: many reaches find them too. A silhouette's limb 1.5 tolerances wide and ten long is one
+#: outline whose walls meet at its tip and part at its root (its nodes between the walls keep
+#: the two together), and most nodes about it lie on the body's outline; rings side by side
+#: run on.
+WALLS_RUN = 20.0
+WALLS_SHARE = 0.5
 #: Rounds of two-means after the split at the mean: each moves the split to halfway between
 #: the sides' means; two walls settle in two or three.
 SPLIT_ROUNDS = 3
@@ -95,6 +132,70 @@ def split_two_walls(nodes: Nodes, atoms: Atoms, radius: float, noisy: bool = Fal
     ratio = np.concatenate([nodes.ratio[keep], nodes.ratio[at], nodes.ratio[at]])
     spread = np.concatenate([nodes.spread[keep], spread_low[split], spread_high[split]])
     return Nodes(xy, tangent, ratio, spread, nodes.reach, nodes.noise)
+
+
+def onto_walls(nodes: Nodes, atoms: Atoms, radius: float) -> Nodes:
+    """``nodes`` with each one that lies on or between two parallel walls side by side moved
+    onto the nearer wall (its mean offset, with the walls' direction).
+
+    The walls are looked for across the principal axis of a window of `WALLS_WINDOW` reaches
+    about each node, within `WALLS_REACH` reaches: two sharp sides more than a radius apart
+    with an empty middle (`_two_walls`), closer than a reach and `NEAR_EDGE` spreads, whose
+    directions differ by less than
+    `PARALLEL_WALLS` degrees, found by `WALLS_SHARE` of the
+    nodes within `WALLS_RUN` reaches.
+    """
+    reach = nodes.reach
+    _, cov = moments(nodes.xy, atoms, WALLS_WINDOW * reach)
+    tangent = principal_axes(cov)[0]
+    o = perpendicular_offsets(nodes.xy, tangent, atoms, WALLS_REACH * reach)
+    sides = _sides(nodes.xy, tangent, atoms, WALLS_REACH * reach, o)
+    low, high, spread_low, spread_high = sides[:4]
+    # a wall's neighbourhood takes in the other wall's band: farther apart, each has its own
+    onto = _two_walls(sides, radius) & (high - low < reach + NEAR_EDGE * np.maximum(
+        spread_low, spread_high))
+    onto[onto] = _parallel_sides(nodes.xy[onto], tangent[onto], atoms,
+                                 _owned(o, onto), 0.5 * (low + high)[onto])
+    if onto.any():  # two walls side by side for a long way, not a limb or a fork
+        tree = cKDTree(nodes.xy)
+        near = tree.query_ball_point(nodes.xy[onto], WALLS_RUN * reach, return_length=True)
+        found = cKDTree(nodes.xy[onto]).query_ball_point(nodes.xy[onto], WALLS_RUN * reach,
+                                                          return_length=True)
+        onto[np.flatnonzero(onto)[found < WALLS_SHARE * near]] = False
+    if not onto.any():
+        return nodes
+    xy, along = nodes.xy.copy(), nodes.tangent.copy()
+    wall = np.where(-low < high, low, high)[onto]
+    xy[onto] += wall[:, None] * np.column_stack([-tangent[onto, 1], tangent[onto, 0]])
+    along[onto] = tangent[onto]
+    return Nodes(xy, along, nodes.ratio, nodes.spread, reach, nodes.noise)
+
+
+def _owned(o: Offsets, chosen: np.ndarray) -> Offsets:
+    """``o`` restricted to the lines ``chosen``, numbered among them."""
+    number = np.cumsum(chosen) - 1
+    keep = chosen[o.owner]
+    return Offsets(number[o.owner[keep]], o.atom[keep], o.weight[keep], o.offset[keep],
+                   int(chosen.sum()))
+
+
+def _parallel_sides(centre: FloatArray, tangent: FloatArray, atoms: Atoms, o: Offsets,
+                    split: FloatArray) -> np.ndarray:
+    """Whether the points on either side of ``split`` across each line (``centre``,
+    ``tangent``; ``o``: their offsets) run within `PARALLEL_WALLS` degrees of each other:
+    each side's least-squares slope of offset against the distance along the line."""
+    along = np.einsum("nd,nd->n", atoms.xy[o.atom] - centre[o.owner], tangent[o.owner])
+    high = o.offset > split[o.owner]
+    angles = []
+    for side in (~high, high):
+        w = np.where(side, o.weight, 0.0)
+        total = np.maximum(np.bincount(o.owner, w, o.lines), 1e-300)
+        a = np.bincount(o.owner, w * along, o.lines) / total
+        y = np.bincount(o.owner, w * o.offset, o.lines) / total
+        aa = np.bincount(o.owner, w * along * along, o.lines) / total - a * a
+        ay = np.bincount(o.owner, w * along * o.offset, o.lines) / total - a * y
+        angles.append(np.degrees(np.arctan2(ay, np.maximum(aa, 1e-300))))
+    return np.abs(angles[0] - angles[1]) < PARALLEL_WALLS
 
 
 def _recentred(centre: FloatArray, tangent: FloatArray, low: FloatArray, high: FloatArray,
