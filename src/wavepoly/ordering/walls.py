@@ -86,10 +86,10 @@ WALLS_REACH = 1.5
 #: degrees, whose node at the fork joins the two).
 PARALLEL_WALLS = 15.0
 #: ... and run side by side for a long way: at least `WALLS_SHARE` of the nodes within this
-#: many reaches find them too. A silhouette's limb 1.5 tolerances wide and ten long is one
+#: many reaches find them too. A silhouette's limb a tolerance or so wide and ten long is one
 #: outline whose walls meet at its tip and part at its root (its nodes between the walls keep
-#: the two together), and most nodes about it lie on the body's outline; rings side by side
-#: run on.
+#: the two together), and most nodes about it lie on the body's outline; so do a slit's, and
+#: a glyph's where two strokes meet; rings side by side run on.
 WALLS_RUN = 20.0
 WALLS_SHARE = 0.5
 #: Rounds of two-means after the split at the mean: each moves the split to halfway between
@@ -141,9 +141,8 @@ def onto_walls(nodes: Nodes, atoms: Atoms, radius: float) -> Nodes:
     The walls are looked for across the principal axis of a window of `WALLS_WINDOW` reaches
     about each node, within `WALLS_REACH` reaches: two sharp sides more than a radius apart
     with an empty middle (`_two_walls`), closer than a reach and `NEAR_EDGE` spreads, whose
-    directions differ by less than
-    `PARALLEL_WALLS` degrees, found by `WALLS_SHARE` of the
-    nodes within `WALLS_RUN` reaches.
+    directions differ by less than `PARALLEL_WALLS` degrees, and found by `WALLS_SHARE` of
+    the nodes within `WALLS_RUN` reaches.
     """
     reach = nodes.reach
     _, cov = moments(nodes.xy, atoms, WALLS_WINDOW * reach)
