@@ -77,14 +77,17 @@ def test_a_folded_ring_facing_another_at_one_place_stays():
 
 
 @pytest.mark.parametrize(("radius", "noise", "seed"), [(8.0, 3 / 16, 100), (8.0, 3 / 16, 102),
-                                                       (3.0, 3 / 16, 104), (3.0, 1 / 8, 106)])
+                                                       (3.0, 3 / 16, 104), (3.0, 1 / 8, 106),
+                                                       (3.0, 1 / 4, 106), (8.0, 1 / 4, 106)])
 def test_circles_one_and_a_half_tolerances_apart_are_drawn_one_ring_each(radius, noise, seed):
-    """Circles 1.5 ε apart sampled every ε / 3 with noise up to 3ε / 16 (a clean sampling):
+    """Circles 1.5 ε apart sampled every ε / 3 with noise up to ε / 4 (a clean sampling):
     where one circle's points thin out the march swapped between them. These came out as two
     rings each walked out along one circle and back along the other, or one ring round both
     with the second circle dropped (a theta's third piece taken for a chord inside the
     first). Each ring now draws one circle: at most a tenth of its vertices nearer the other
-    (a polygon's chords cut inside its circle by up to ε, its vertices lie on it)."""
+    (a polygon's chords cut inside its circle by up to ε, its vertices lie on it). With
+    noise ε / 4 (seed 106) a fold's hairpin closed across the band in one chord 15 radii
+    long, and its stretches' ends lay farther apart than a join reached."""
     eps = 0.1
     t = np.linspace(0, 2 * np.pi, 720, endpoint=False)
     rings = [r * np.column_stack([np.cos(t), np.sin(t)]) for r in (radius, radius + 1.5 * eps)]

@@ -31,8 +31,9 @@ FACING_REACH = 4.0
 #: Each ring faces the others at a few places at most (two per ring swapped with).
 MAX_PLACES = 4
 #: Cut where each comes within `FACING_REACH` of the other, the rings' stretches end up to
-#: twice that apart across the place, and a little more where a hairpin is blunt.
-JOIN_REACH = 3 * FACING_REACH
+#: twice that apart across the place, and more where a hairpin is blunt or closes across the
+#: band in one long chord (15 radii on circles 1.5 radii apart with noise a quarter of one).
+JOIN_REACH = 4 * FACING_REACH
 
 
 def unfold_rings(contours: list[OrderedContour], points: FloatArray, radius: float
