@@ -732,6 +732,20 @@ def test_a_finer_reading_that_closes_more_wins_over_an_exact_one(char, spacing, 
     assert [c.closed for c in result.contours] == [True] * len(shape.rings)
 
 
+@pytest.mark.parametrize("char", ["K", "u", "a"])
+def test_a_hairline_the_tolerance_spans_is_read_finer_where_that_ties(char):
+    """STIX at ε 0.8 (4 % of its height) as the glyph sweep samples it: read as noise, then
+    exactly and at half the radius, each leaving nothing open or out. Read exactly, the
+    hairline joining a bowl or an arm to its stem was a waist between two rings ('K', 'u'),
+    or the march ran across one and lost a counter ('a'); at half the radius it is drawn
+    (`ordering.rereading._mends_more`)."""
+    shape = glyph_outlines(char, height=20.0, family="STIXGeneral")
+    pts = sample_rings(shape.rings, spacing=0.1, noise=0.1, seed=13)
+    result = wavepoly.fit(pts, 0.8)
+    _valid(pts, result)
+    assert [c.closed for c in result.contours] == [True] * len(shape.rings)
+
+
 @pytest.mark.parametrize(("seed", "noise"), [(9, 0.0), (14, 0.0)])
 def test_blobs_touching_at_a_pixel_corner_stay_two_rings(seed, noise):
     """Random blobs (the benchmark's blob sweep, size 0.1) of which two touch at a pixel's

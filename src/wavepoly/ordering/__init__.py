@@ -63,7 +63,8 @@ Python loop runs over points:
    reading's own curves are mostly open, ten times as many as it did
    (`rereading.EXACT_GAIN`): small shapes with sharp corners, and letters packed side by
    side, look like scatter to the windows that measure the noise. Where the finer reading
-   of 6. mends it too, that one is kept where it leaves fewer open or out (`rereading`).
+   of 6. mends it too, that one is kept where it leaves no more open or out: it sees the
+   hairlines the tolerance's neighbourhoods span (`rereading`).
 8. Where a clean reading still left outlines open, one ending far from every other line,
    the scan is read again with other seeds of the thinning, and the first reading at the
    same radius that closes every outline is kept

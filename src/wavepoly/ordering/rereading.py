@@ -280,10 +280,13 @@ def _open(ordering: Ordering) -> int:
 
 
 def _mends_more(finer: Ordering, exact: Ordering) -> bool:
-    """Whether the finer reading leaves fewer outlines open than the exact one, or as many
-    and fewer points out. Both mend a noisy reading whose spread was the shapes' own; where
-    they leave as many open and out, neither is the better in general (a serif font's
-    hairlines at ε 4 % of its height: 5 glyphs right only at half the radius; at 6 %, 5 only
-    at the tolerance's), and the exact reading stays. A serif font at ε 4-6 % of its height:
-    'x', 'A' and 'w' came out with open pieces read exactly, closed at half the radius."""
-    return (_open(finer), len(finer.outliers)) < (_open(exact), len(exact.outliers))
+    """Whether the finer reading leaves no more outlines open than the exact one and no more
+    points out. Both mend a noisy reading whose spread was the shapes' own; where they leave
+    as many open and out, the finer one sees what the tolerance's neighbourhoods span: a
+    serif font's hairline joining a bowl to its stem, or an arm to its stem, which read at
+    the tolerance's radius as a waist between two rings (ε 4 % of the glyphs' height:
+    STIX 57 -> 62 and cmr10 51 -> 53 of 68 right, its 'c' lost, a ball terminal on a
+    hairline drawn as a ring of its own; at 6 %, 127 -> 128 of 204 over three serif fonts).
+    A serif font at ε 4-6 % of its height: 'x', 'A' and 'w' came out with open pieces read
+    exactly, closed at half the radius."""
+    return (_open(finer), len(finer.outliers)) <= (_open(exact), len(exact.outliers))
