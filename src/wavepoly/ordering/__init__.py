@@ -48,7 +48,9 @@ Python loop runs over points:
    as one outline (`mouths`). Two thin rings, each walked out along one of two walls side by
    side and back along the other and turning back where the other does (the march swapped
    walls at two places), are cut where they face each other and joined along the walls
-   (`folds`).
+   (`folds`). A ring's detour of a few nodes onto a neighbouring ring's wall, beside which
+   it runs on (the march stepped across where its own wall's points thin out), is cut off
+   (`detours`).
 5. On a noisy scan the outliers are read again: the compact strokes among them (a ghost wall
    beside a wall, the foot of a short wall meeting it) become contours clear of the first
    ones (`strokes`).
