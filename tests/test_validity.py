@@ -746,6 +746,20 @@ def test_a_hairline_the_tolerance_spans_is_read_finer_where_that_ties(char):
     assert [c.closed for c in result.contours] == [True] * len(shape.rings)
 
 
+@pytest.mark.parametrize(("family", "char"), [("cmr10", "M"), ("cmr10", "s"),
+                                               ("STIXGeneral", "3")])
+def test_a_finer_reading_that_breaks_a_hairline_does_not_win(family, char):
+    """Serif glyphs at ε 0.8 (4 % of their height) as the glyph sweep samples them: read at
+    the tolerance's radius, one closed outline with nothing open or out; at half the radius
+    (less spread measured, so that reading was kept) the neighbourhoods break a hairline
+    and the outline came out as two rings side by side (`ordering.rereading`)."""
+    shape = glyph_outlines(char, height=20.0, family=family)
+    pts = sample_rings(shape.rings, spacing=0.1, noise=0.1, seed=13)
+    result = wavepoly.fit(pts, 0.8)
+    _valid(pts, result)
+    assert [c.closed for c in result.contours] == [True] * len(shape.rings)
+
+
 @pytest.mark.parametrize(("seed", "noise"), [(9, 0.0), (14, 0.0)])
 def test_blobs_touching_at_a_pixel_corner_stay_two_rings(seed, noise):
     """Random blobs (the benchmark's blob sweep, size 0.1) of which two touch at a pixel's

@@ -190,8 +190,13 @@ def _finer_reading(ordering: Ordering, pts: FloatArray, radius: float, spacing: 
                    read: Callable[..., Ordering]) -> Ordering | None:
     """The scan read at a finer radius (`FINER_RADIUS`), where that reading is clean, measures
     much less noise than ``ordering`` (read at ``radius``) and leaves no more points out and
-    no more contours open; else None. Only on samples with a few spacings per radius
-    (`FINER_SPACINGS`); the noise is measured before any marching."""
+    no more contours open; else None. Where ``ordering`` is clean and left nothing open or
+    out, the finer reading must not draw more outlines side by side (rings inside no other;
+    a hole it finds is welcome): its neighbourhoods break a hairline that the tolerance's
+    spanned, and one outline comes out as two (serif glyphs at ε 4 % of their height: STIX
+    62 -> 64 and cmr10 53 -> 58 of 68; at 6 %, 128 -> 137 of 204 over three serif fonts).
+    Only on samples with a few spacings per radius (`FINER_SPACINGS`); the noise is
+    measured before any marching."""
     finer = max(FINER_RADIUS * radius, SPACINGS_PER_RADIUS * spacing)
     if not (0 < spacing and radius <= FINER_SPACINGS * spacing
             and finer <= FINER_AT_MOST * radius):
@@ -204,6 +209,9 @@ def _finer_reading(ordering: Ordering, pts: FloatArray, radius: float, spacing: 
     fine = read(radius=finer, sparse=False)
     if len(fine.outliers) > len(ordering.outliers) or _open(fine) > _open(ordering):
         return None  # spikes thinner than the finer radius too, read as strokes
+    if (ordering.clean and _open(ordering) == 0 and len(ordering.outliers) == 0
+            and _outer_rings(fine) > _outer_rings(ordering)):
+        return None  # a hairline the finer neighbourhoods break: one outline read as two
     note = (f"read at a radius of {finer:.4g}: at {radius:.4g} the neighbourhoods spanned "
             f"parts thinner than that (noise {ordering.noise:.3g} there, {fine.noise:.3g} here)")
     return replace(fine, notes=(*fine.notes, note))
@@ -272,6 +280,14 @@ def _left_out(ordering: Ordering, pts: FloatArray, tolerance: float) -> int:
     return len(ordering.outliers) + sum(
         int((polyline_distance(pts[c.members], c.points, c.closed) > tolerance).sum())
         for c in ordering.contours)
+
+
+def _outer_rings(ordering: Ordering) -> int:
+    """How many closed contours of ``ordering`` lie inside no other (outlines, not holes)."""
+    rings = [c.points for c in ordering.contours if c.closed and len(c.points) >= 3]
+    polygons = [shapely.Polygon(r) for r in rings]
+    return sum(not any(k != j and p.contains(shapely.Point(r[0]))
+                       for j, p in enumerate(polygons)) for k, r in enumerate(rings))
 
 
 def _open(ordering: Ordering) -> int:
