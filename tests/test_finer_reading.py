@@ -77,3 +77,23 @@ def test_shared_silhouettes_at_a_coarse_tolerance_are_one_outline(shared_data, n
     assert len(result.outliers) == 0
     assert result.validity.valid and independent_problems(result) == []
     assert distance_to_output(pts, result).max() <= eps * (1 + 1e-9)
+
+
+def test_outlines_side_by_side_are_counted_and_holes_are_not():
+    """The count that keeps a finer reading from splitting a clean one's outline
+    (`rereading._outer_rings`): rings inside no other ring; a hole and an open piece are no
+    outline of their own."""
+    from wavepoly.ordering.rereading import _outer_rings
+    from wavepoly.types import OrderedContour, Ordering
+
+    def square(x, half):
+        return np.array([[x - half, -half], [x + half, -half], [x + half, half],
+                         [x - half, half]], dtype=float)
+
+    one = np.arange(1)
+    pieces = [OrderedContour(square(0.0, 1.0), True, one),
+              OrderedContour(square(0.0, 0.3), True, one),
+              OrderedContour(square(5.0, 1.0), True, one),
+              OrderedContour(square(9.0, 1.0)[:3], False, one)]
+    ordering = Ordering(pieces, np.empty(0, dtype=np.intp), 0.1)
+    assert _outer_rings(ordering) == 2

@@ -285,9 +285,12 @@ def _left_out(ordering: Ordering, pts: FloatArray, tolerance: float) -> int:
 def _outer_rings(ordering: Ordering) -> int:
     """How many closed contours of ``ordering`` lie inside no other (outlines, not holes)."""
     rings = [c.points for c in ordering.contours if c.closed and len(c.points) >= 3]
-    polygons = [shapely.Polygon(r) for r in rings]
-    return sum(not any(k != j and p.contains(shapely.Point(r[0]))
-                       for j, p in enumerate(polygons)) for k, r in enumerate(rings))
+    if not rings:
+        return 0
+    polygons = np.array([shapely.Polygon(r) for r in rings], dtype=object)
+    inside = shapely.contains(polygons[:, None], shapely.points([r[0] for r in rings])[None, :])
+    np.fill_diagonal(inside, False)
+    return int((~inside.any(axis=0)).sum())
 
 
 def _open(ordering: Ordering) -> int:
