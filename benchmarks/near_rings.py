@@ -19,6 +19,10 @@ from .common import table
 #: units of 10 ε) and seeds of each; sampled every ε / 3 at random.
 RING_GAPS = (1.5, 2.0, 2.5, 3.0)
 RING_NOISE = (0.125, 0.1875, 0.25)
+#: ... and a thin tube's two walls, closer than the tolerance (`wavepoly.ordering.annuli`):
+#: exact, and with noise small against the gap (at 0.8 ε, ε / 16 puts them 13 noise levels
+#: apart; at a quarter of that the two bands are one to the eye too).
+TUBE_ROWS = ((0.5, 0.0), (0.8, 0.0), (0.8, 0.0625))
 RING_RADII = (3.0, 8.0)
 RING_SEEDS = 8
 #: The tolerance the circles are fitted at.
@@ -36,31 +40,30 @@ def near_rings_sweep(truth) -> str:
     rows = []
     t = np.linspace(0, 2 * np.pi, 720, endpoint=False)
     circle = np.column_stack([np.cos(t), np.sin(t)])
-    for gap in RING_GAPS:
-        for noise in RING_NOISE:
-            right = merged = folded = opened = invalid = 0
-            t0 = time.perf_counter()
-            for radius in RING_RADII:
-                for seed in range(RING_SEEDS):
-                    rings = [radius * circle, (radius + gap * RING_EPS) * circle]
-                    pts = sample_rings(rings, spacing=RING_EPS / 3, noise=noise * RING_EPS,
-                                       seed=100 + seed)
-                    res = wavepoly.fit(pts, RING_EPS)
-                    bad = bool(truth.independent_problems(res))
-                    closed = [c.closed for c in res.contours]
-                    inner = [_inner_share(c.vertices, radius + 0.5 * gap * RING_EPS)
-                             for c in res.contours]
-                    apart = (closed == [True, True]
-                             and sorted(round(s) for s in inner) == [0, 1]
-                             and all(min(s, 1 - s) <= OTHER_CIRCLE_SHARE for s in inner))
-                    invalid += bad
-                    merged += closed == [True]
-                    folded += closed == [True, True] and not apart
-                    opened += not all(closed)
-                    right += apart and not bad and len(res.outliers) == 0
-            total = len(RING_RADII) * RING_SEEDS
-            rows.append([f"{gap:g} ε", f"{noise:g} ε", f"{right}/{total}", merged, folded,
-                         opened, invalid, time.perf_counter() - t0])
+    for gap, noise in [(g, n) for g in RING_GAPS for n in RING_NOISE] + list(TUBE_ROWS):
+        right = merged = folded = opened = invalid = 0
+        t0 = time.perf_counter()
+        for radius in RING_RADII:
+            for seed in range(RING_SEEDS):
+                rings = [radius * circle, (radius + gap * RING_EPS) * circle]
+                pts = sample_rings(rings, spacing=RING_EPS / 3, noise=noise * RING_EPS,
+                                   seed=100 + seed)
+                res = wavepoly.fit(pts, RING_EPS)
+                bad = bool(truth.independent_problems(res))
+                closed = [c.closed for c in res.contours]
+                inner = [_inner_share(c.vertices, radius + 0.5 * gap * RING_EPS)
+                         for c in res.contours]
+                apart = (closed == [True, True]
+                         and sorted(round(s) for s in inner) == [0, 1]
+                         and all(min(s, 1 - s) <= OTHER_CIRCLE_SHARE for s in inner))
+                invalid += bad
+                merged += closed == [True]
+                folded += closed == [True, True] and not apart
+                opened += not all(closed)
+                right += apart and not bad and len(res.outliers) == 0
+        total = len(RING_RADII) * RING_SEEDS
+        rows.append([f"{gap:g} ε", f"{noise:g} ε", f"{right}/{total}", merged, folded,
+                     opened, invalid, time.perf_counter() - t0])
     return ("### Near rings\n\nTwo circles *gap* ε apart, one inside the other (the inner "
             f"{RING_RADII[0] / RING_EPS:g} and {RING_RADII[1] / RING_EPS:g} ε in radius), "
             "sampled every ε / 3 at random with Gaussian noise up to ε / 4, the issue's bound "
@@ -72,7 +75,9 @@ def near_rings_sweep(truth) -> str:
             "circle and back along the other, or one reaching across to the other in teeth; "
             "*open*: results with an open piece. At 1.5 ε with noise ε / 4 each "
             "circle's band (four standard deviations wide) leaves half an ε of empty space "
-            "between them.\n\n"
+            "between them. The last rows are a thin tube's walls, closer than ε: one ring "
+            "down the middle keeps every point within ε but bounds the bore and the wall "
+            "together (*merged*).\n\n"
             + table(["gap", "noise", "right", "merged", "folded", "open", "invalid", "seconds"],
                     rows))
 

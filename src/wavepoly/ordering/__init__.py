@@ -50,7 +50,9 @@ Python loop runs over points:
    walls at two places), are cut where they face each other and joined along the walls
    (`folds`). A ring's detour of a few nodes onto a neighbouring ring's wall, beside which
    it runs on (the march stepped across where its own wall's points thin out), is cut off
-   (`detours`).
+   (`detours`). A ring whose members lie on two walls closer than the radius all the way
+   round (a thin-walled tube's section, followed down the middle of its wall) becomes the
+   annulus's two rings, drawn apart by the walls' offsets (`annuli`).
 5. On a noisy scan the outliers are read again: the compact strokes among them (a ghost wall
    beside a wall, the foot of a short wall meeting it) become contours clear of the first
    ones (`strokes`).

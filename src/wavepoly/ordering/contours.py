@@ -15,6 +15,7 @@ from scipy.spatial import cKDTree
 
 from ..geometry import nearest_segment, nearest_site, polyline_length
 from ..types import Chain, Contour, FloatArray, IntArray, OrderedContour
+from .annuli import split_annuli
 from .detours import cut_detours
 from .folds import unfold_rings
 from .gaps import close_gaps
@@ -172,7 +173,8 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
         if any(not c.closed for c in contours):  # the outlines closed since take their tips
             contours, outliers = extend_tips(contours, outliers, pts, radius, outlier_gap)
     if clean:
-        contours = cut_detours(unfold_rings(contours, pts, radius), pts, radius)
+        contours = split_annuli(cut_detours(unfold_rings(contours, pts, radius), pts, radius),
+                                pts, radius)
     return contours, outliers
 
 
