@@ -29,14 +29,26 @@ from .untangle import share_members
 from .walls import EMPTY_MIDDLE, SIDE_SHARE, SIDE_SHARPNESS, SPLIT_ROUNDS
 
 #: The members' offsets are grouped over stretches of the ring this many radii long: a
-#: neighbourhood's length, holding some six points of each wall at a third of a radius apart.
+#: neighbourhood's length, holding some six points of each wall at a third of a radius apart...
 STRETCH = 2.0
+#: ... or longer, to hold this many members on average (eight of each wall) where the points
+#: are sparse (a slice's section points, spaced half a radius apart)...
+STRETCH_MEMBERS = 16
+#: ... and each needs at least this many to be read.
+STRETCH_POINTS = 6
+#: A ring is read in at least this many stretches: "all round" is no test of a small ring
+#: read in a few, whose stretches each span a bend or a corner (a blob ten pixels across,
+#: traced, split into a ring and a phantom second one).
+MIN_STRETCHES = 8
+#: The bend fitted across a stretch is damped by this (in squared radii): only a stretch
+#: with next to no members along it keeps no bend.
+BEND_RIDGE = 1e-6
 #: Two walls all round: at least this share of the ring's stretches hold members on both
 #: sides (a wall that stops leaves one side empty where it does)...
 BOTH_SIDES_SHARE = 0.9
 #: ... and at least this share find them in two sharp groups (at a corner the ring cuts,
 #: both walls' offsets sweep across the stretch together: a square tube's four corners take
-#: up to a fifth of its stretches).
+#: up to a fifth of its stretches)...
 TWO_WALL_SHARE = 0.7
 #: ... and their typical (median) stretch is this sharp at least: a bell of scatter about one
 #: wall, split in two, gives 0.38, and a stretch of a dozen members passes 0.25 by chance
@@ -46,18 +58,6 @@ TYPICAL_SHARPNESS = 0.15
 #: Walls closer than this many radii are one curve: within a tenth of a tolerance of the
 #: ring, and a chain's chords over a curve's bend spread a wall's own offsets as far.
 MIN_GAP = 0.2
-#: ... or longer, to hold this many members on average (eight of each wall) where the points
-#: are sparse (a slice's section points, spaced half a radius apart)...
-STRETCH_MEMBERS = 16
-#: A ring is read in at least this many stretches: "all round" is no test of a small ring
-#: read in a few, whose stretches each span a bend or a corner (a blob ten pixels across,
-#: traced, split into a ring and a phantom second one).
-MIN_STRETCHES = 8
-#: ... and each needs at least this many to be read.
-STRETCH_POINTS = 6
-#: The bend fitted across a stretch is damped by this (in squared radii): only a stretch
-#: with next to no members along it keeps no bend.
-BEND_RIDGE = 1e-6
 
 
 def split_annuli(contours: list[OrderedContour], points: FloatArray, radius: float
@@ -127,13 +127,23 @@ def _two_walls(c: OrderedContour, points: FloatArray, radius: float
     if (both.mean() < BOTH_SIDES_SHARE or two.mean() < TWO_WALL_SHARE
             or np.median(sharpness[both]) > TYPICAL_SHARPNESS):
         return None
-    node = np.minimum((arc[:-1] / arc[-1] * stretches).astype(np.intp), stretches - 1)
-    keep = np.flatnonzero(two)  # a node in a stretch that failed takes the nearest that passed
-    node = keep[np.argmin(np.abs(node[:, None] - keep[None, :]), axis=1)]
+    node = _nearest_passed(np.minimum((arc[:-1] / arc[-1] * stretches).astype(np.intp),
+                                      stretches - 1), np.flatnonzero(two))
     normal = _node_normals(xy)
-    one, two_ = xy + low[node, None] * normal, xy + high[node, None] * normal
-    first, second = shapely.Polygon(one), shapely.Polygon(two_)
-    return [two_, one] if second.area >= first.area else [one, two_]
+    low_ring, high_ring = xy + low[node, None] * normal, xy + high[node, None] * normal
+    if shapely.Polygon(high_ring).area >= shapely.Polygon(low_ring).area:
+        return [high_ring, low_ring]
+    return [low_ring, high_ring]
+
+
+def _nearest_passed(stretch: np.ndarray, passed: np.ndarray) -> np.ndarray:
+    """For each node's ``stretch``, the nearest of the sorted stretches that ``passed`` the
+    two-walls test (its own where it did): a node where one wall's points thin out takes the
+    walls' offsets of the stretch beside it."""
+    right = np.minimum(np.searchsorted(passed, stretch), len(passed) - 1)
+    left = np.maximum(right - 1, 0)
+    nearer_left = np.abs(stretch - passed[left]) < np.abs(passed[right] - stretch)
+    return passed[np.where(nearer_left, left, right)]
 
 
 def _sides(stretch: np.ndarray, offset: FloatArray, k: int) -> tuple[FloatArray, ...]:
