@@ -138,11 +138,11 @@ def _two_walls(c: OrderedContour, points: FloatArray, radius: float
 
 def _nearest_passed(stretch: np.ndarray, passed: np.ndarray) -> np.ndarray:
     """For each node's ``stretch``, the nearest of the sorted stretches that ``passed`` the
-    two-walls test (its own where it did): a node where one wall's points thin out takes the
-    walls' offsets of the stretch beside it."""
+    two-walls test (its own where it did; the lower on a tie): a node where one wall's points
+    thin out takes the walls' offsets of the stretch beside it."""
     right = np.minimum(np.searchsorted(passed, stretch), len(passed) - 1)
     left = np.maximum(right - 1, 0)
-    nearer_left = np.abs(stretch - passed[left]) < np.abs(passed[right] - stretch)
+    nearer_left = np.abs(stretch - passed[left]) <= np.abs(passed[right] - stretch)
     return passed[np.where(nearer_left, left, right)]
 
 
