@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
-from ..geometry import nearest_segment, polyline_segments
+from ..geometry import curve_line, nearest_segment, polyline_segments
 from ..kernels import two_means_sides
 from ..types import FloatArray, OrderedContour
 from .passes import SMOOTH_NODES
@@ -206,7 +206,5 @@ def _clear(rings: list[FloatArray], others: list[OrderedContour]) -> bool:
     outer, inner = (shapely.Polygon(r) for r in rings)
     if not (outer.is_valid and inner.is_valid and outer.contains(inner)):
         return False
-    lines = [shapely.LinearRing(c.points) if c.closed else shapely.LineString(c.points)
-             for c in others if len(c.points) >= 2 + c.closed]
-    return not any(shapely.intersects(shapely.LinearRing(r), lines).any() for r in rings) \
-        if lines else True
+    lines = np.array([curve_line(c.points, c.closed) for c in others], dtype=object)
+    return not any(shapely.intersects(shapely.LinearRing(r), lines).any() for r in rings)
