@@ -229,6 +229,47 @@ def test_projection_onto_the_local_quadric_removes_noise_not_curvature():
     assert np.abs(np.hypot(*projected[:, :2].T) - 2).mean() < 0.6 * raw_error
 
 
+def test_a_thin_walls_section_lies_on_its_two_faces():
+    """A slab 0.08 thick, thinner than a neighbourhood (radius about 0.25): each point is
+    fitted to its own face, so the section points lie on the two faces, not on the plane down
+    the wall's middle that the neighbourhood as a whole gives."""
+    rng = np.random.default_rng(3)
+    n = 40000
+    face = rng.integers(0, 2, n)
+    wall = np.column_stack([0.08 * face, rng.uniform(-6, 6, n), rng.uniform(0, 6, n)])
+    wall += rng.normal(scale=0.002, size=wall.shape)
+    uvh = wall[np.argsort(wall[:, 2])]
+    surface = surface_samples(uvh)
+    rows = slice(*np.searchsorted(surface.uvh[:, 2], [2.0, 4.0]))
+    x = section_points(surface, rows, 3.0)[:, 0]
+    off_face = np.minimum(np.abs(x), np.abs(x - 0.08))
+    assert len(x) > 300
+    assert np.percentile(off_face, 99) < 0.01
+    assert min(np.sum(x < 0.04), np.sum(x > 0.04)) > 0.4 * len(x)
+
+
+def test_a_thin_shells_shallow_section_lies_on_its_two_faces():
+    """The cap of a hollow ball whose shell (0.08) is thinner than a neighbourhood, cut 0.2
+    below its pole: the surface meets the plane at 21 degrees, so the points are fitted again
+    as height fields over a wider neighbourhood, which holds both faces; each is fitted to
+    its own face, and the section points lie on the outer and the inner circle, not between
+    them (0.95 in the median: the layer drew a disc)."""
+    rng = np.random.default_rng(7)
+    caps = []
+    for radius in (3.0, 2.92):
+        d = rng.normal(size=(40000, 3))
+        d = d[d[:, 2] > 0.73 * np.linalg.norm(d, axis=1)][:4000]
+        caps.append(radius * d / np.linalg.norm(d, axis=1, keepdims=True))
+    cap = np.vstack(caps) + rng.normal(scale=0.002, size=(8000, 3))
+    uvh = cap[np.argsort(cap[:, 2])]
+    surface = surface_samples(uvh)
+    rows = slice(*np.searchsorted(surface.uvh[:, 2], [2.6, 3.0]))
+    r = np.hypot(*section_points(surface, rows, 2.8).T)
+    outer, inner = np.sqrt(3.0**2 - 2.8**2), np.sqrt(2.92**2 - 2.8**2)
+    assert np.percentile(np.minimum(np.abs(r - outer), np.abs(r - inner)), 95) < 0.02
+    assert min(np.sum(r > (outer + inner) / 2), np.sum(r < (outer + inner) / 2)) > 0.3 * len(r)
+
+
 def test_a_shallow_dome_gives_its_ring_and_a_face_in_the_plane_none():
     """A sphere's top cut 0.3 below its pole meets the plane at 25 degrees, shallower than a
     tangent plane's noise allows: a wider height-field fit whose slope stands out of the noise

@@ -64,6 +64,26 @@ def test_uniform_layers_of_a_tube_have_holes_and_stay_within_tolerance():
     assert res.model_error <= 0.1 * 1.02
 
 
+def test_a_thin_walled_tube_is_sliced_into_rings_not_discs():
+    """A tube whose wall (0.08) is thinner than the tolerance (0.1) and than a point's
+    neighbourhood: each layer is the outer circle and its hole, and the layer model's volume
+    is the wall's, not the filled disc's (662, measured before the faces were told apart)."""
+    rng = np.random.default_rng(1)
+    n, wall = 60000, 0.08
+    t, h = rng.uniform(0, 2 * np.pi, n), rng.uniform(0, 6, n)
+    r = np.where(rng.random(n) < 0.5, 6.0, 6.0 - wall)
+    pts = np.column_stack([r * np.cos(t), r * np.sin(t), h])
+    pts += rng.normal(scale=0.005, size=pts.shape)
+    res = slice_cloud(pts, 0.1, layer_thickness=1.0, workers=1)
+    fitted = [layer for layer in res.layers if layer.fit.contours]
+    assert len(fitted) == 6  # the noise adds a sliver of a seventh layer at the top
+    for layer in fitted:
+        assert [c.closed for c in layer.fit.contours] == [True, True]
+        assert sorted(layer.fit.parents) == [-1, 0] or sorted(layer.fit.parents) == [-1, 1]
+    true_volume = np.pi * (6.0**2 - (6.0 - wall) ** 2) * 6.0
+    assert layer_mesh(res).volume == pytest.approx(true_volume, rel=0.25)
+
+
 def test_adaptive_layers_are_thick_where_the_surface_is_vertical():
     """On a sphere the wall is vertical at the equator and flat at the poles."""
     pts = sphere(30000)

@@ -24,7 +24,10 @@ vertical corner, a step's rim) a point's neighbourhood lies on two faces and its
 neither: such a point takes the plane of a flatter neighbourhood nearby that it lies on, so
 that the section runs into the corner instead of cutting it (Fleishman et al.); a shallow
 point whose wider height field spans an edge, or comes out steep, gives no section point (it
-would slide along the edge's tilt). Thus a band
+would slide along the edge's tilt). Where the object's wall is thinner than a neighbourhood
+(a tube, a hollow shell), the neighbourhood holds both faces and its plane lies mid-wall: each
+point is then fitted to its own face alone (`wavepoly.sheets`), so that the section has the
+wall's two sides and not one line down its middle, which would fill the tube. Thus a band
 becomes a line of points with the scan's noise, which the fit turns into the section within
 ε.
 
@@ -52,6 +55,7 @@ from typing import NamedTuple
 import numpy as np
 from scipy.spatial import cKDTree
 
+from .sheets import own_principal, own_sheet, principal
 from .types import FloatArray, IntArray, SurfaceSamples
 
 #: Neighbours of each point for its tangent plane: enough for a stable normal under noise
@@ -197,17 +201,8 @@ def node_step(uvh: FloatArray, k: int = SURFACE_NEIGHBOURS) -> tuple[int, cKDTre
 def _median_flatness(nodes: FloatArray, tree: cKDTree, k: int) -> float:
     sample = np.arange(0, len(nodes), max(1, len(nodes) // FLATNESS_SAMPLE))
     near = _neighbours(nodes, tree, sample, min(k, len(nodes)))
-    _, _, values, _ = _principal(nodes[near])  # the flatness alone: no quadric needed
+    _, _, values, _, _ = own_principal(nodes[near])  # the flatness alone: no quadric
     return float(np.median(values[:, 0] / np.maximum(values[:, 1], 1e-300)))
-
-
-def _principal(nbr: FloatArray) -> tuple[FloatArray, ...]:
-    """Centroid, centred points, principal variances (ascending) and axes of each (k, 3)
-    neighbourhood in ``nbr`` (n, k, 3)."""
-    centroid = nbr.mean(axis=1)
-    centred = nbr - centroid[:, None]
-    values, axes = np.linalg.eigh(np.einsum("nki,nkj->nij", centred, centred))
-    return centroid, centred, values, axes
 
 
 class _Fits(NamedTuple):
@@ -244,13 +239,14 @@ def _fits(nodes: FloatArray, which: IntArray, near: IntArray) -> _Fits:
     for start in range(0, n, CHUNK):
         stop = min(n, start + CHUNK)
         nbr = nodes[near[start:stop]]
-        centroid[start:stop], centred, values, axes = _principal(nbr)
+        centroid[start:stop], centred, values, axes, weight = own_principal(nbr)
         normals[start:stop] = axes[:, :, 0]  # the smallest principal axis
         flatness[start:stop] = values[:, 0] / np.maximum(values[:, 1], 1e-300)
-        low[start:stop] = nbr[:, :, 2].min(axis=1)
-        high[start:stop] = nbr[:, :, 2].max(axis=1)
+        heights = nbr[:, :, 2]
+        low[start:stop] = np.where(weight > 0, heights, np.inf).min(axis=1)
+        high[start:stop] = np.where(weight > 0, heights, -np.inf).max(axis=1)
         radius[start:stop] = np.linalg.norm(nbr[:, -1] - nodes[which[start:stop]], axis=1)
-        coef, rms[start:stop] = _local_quadric(centred, axes)
+        coef, rms[start:stop] = _local_quadric(centred, axes, weight)
         offset[start:stop] = _above_quadric(nodes[which[start:stop]] - centroid[start:stop],
                                             axes, coef)
     return _Fits(normals, low, high, radius, flatness, offset, centroid, rms)
@@ -321,10 +317,12 @@ def _refine_shallow(nodes: FloatArray, tree: cKDTree, which: IntArray,
         dist, idx = tree.query(nodes[which[rows]], k=k)
         nbr = nodes[idx]
         rel = nbr - nodes[which[rows]][:, None, :]
-        a = quadric_terms(rel[..., 0], rel[..., 1])
-        coef, inverse = quadric_fit(a, rel[..., 2])
-        resid = rel[..., 2] - np.einsum("nki,ni->nk", a, coef)
-        noise = np.einsum("nk,nk->n", resid, resid) / (k - 6)
+        # across a thin shell lying near the plane, the point's own face only
+        weight = own_sheet(*principal(nbr)[1:], fan=False)
+        a = quadric_terms(rel[..., 0], rel[..., 1]) * weight[..., None]
+        coef, inverse = quadric_fit(a, rel[..., 2] * weight)
+        resid = rel[..., 2] * weight - np.einsum("nki,ni->nk", a, coef)
+        noise = np.einsum("nk,nk->n", resid, resid) / (weight.sum(axis=1) - 6)
         grad = coef[:, 1:3]
         slope = np.hypot(grad[:, 0], grad[:, 1])
         along = grad / np.maximum(slope, 1e-300)[:, None]
@@ -340,7 +338,8 @@ def _refine_shallow(nodes: FloatArray, tree: cKDTree, which: IntArray,
         norm = np.sqrt(1.0 + slope**2)
         normals[rows] = np.column_stack([-grad, np.ones(len(rows))]) / norm[:, None]
         offset[rows] = -coef[:, 0] / norm
-        low[rows], high[rows] = nbr[:, :, 2].min(axis=1), nbr[:, :, 2].max(axis=1)
+        low[rows] = np.where(weight > 0, nbr[:, :, 2], np.inf).min(axis=1)
+        high[rows] = np.where(weight > 0, nbr[:, :, 2], -np.inf).max(axis=1)
         radius[rows] = dist[:, -1]
     # a height field that fits far worse than the shallow surfaces' typical one spans an edge
     # (a cap and the wall under it): its normal is the edge's, not a surface's, and gives no
@@ -350,18 +349,22 @@ def _refine_shallow(nodes: FloatArray, tree: cKDTree, which: IntArray,
     return score, bend
 
 
-def _local_quadric(centred: FloatArray, axes: FloatArray) -> tuple[FloatArray, FloatArray]:
+def _local_quadric(centred: FloatArray, axes: FloatArray, weight: FloatArray
+                   ) -> tuple[FloatArray, FloatArray]:
     """The least-squares quadric of each neighbourhood (``centred``: (n, k, 3) about its
-    centroid; ``axes``: its principal axes, the normal first), as the height along the normal
-    over the major and minor axes: its (n, 6) coefficients and the root-mean-square of its
-    residuals. A quadric rather than the plane, so that projecting a point onto it removes the
-    noise and not the curvature (the plane through the centroid of a curved wall lies about
-    r^2 / 6R inside it)."""
+    centroid; ``axes``: its principal axes, the normal first; ``weight`` (n, k): 1 on the
+    points fitted, 0 on the rest), as the height along the normal over the major and minor
+    axes: its (n, 6) coefficients and the root-mean-square of its residuals. A quadric rather
+    than the plane, so that projecting a point onto it removes the noise and not the curvature
+    (the plane through the centroid of a curved wall lies about r^2 / 6R inside it)."""
     local = np.einsum("nki,nij->nkj", centred, axes)  # (normal, minor, major) coordinates
     terms = quadric_terms(local[..., 2], local[..., 1])
-    coef, _ = quadric_fit(terms, local[..., 0])
-    resid = local[..., 0] - np.einsum("nki,ni->nk", terms, coef)
-    dof = max(1, local.shape[1] - 6)
+    height = local[..., 0]
+    if weight.min(initial=1.0) < 1.0:
+        terms, height = terms * weight[..., None], height * weight
+    coef, _ = quadric_fit(terms, height)
+    resid = height - np.einsum("nki,ni->nk", terms, coef)
+    dof = np.maximum(1.0, weight.sum(axis=1) - 6)
     return coef, np.sqrt(np.einsum("nk,nk->n", resid, resid) / dof)
 
 

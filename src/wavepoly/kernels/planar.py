@@ -1,7 +1,4 @@
-"""Compiled inner loops (numba), where a loop over points is the algorithm itself.
-
-Each kernel has a NumPy reference beside the code that calls it, and the tests compare them
-on random cases. Kernels take and return plain arrays, so they know nothing of the records.
+"""Compiled inner loops over planar points and polylines (numba).
 
 References
 ----------
