@@ -22,7 +22,11 @@ RING_NOISE = (0.125, 0.1875, 0.25)
 #: ... and a thin tube's two walls, closer than the tolerance (`wavepoly.ordering.annuli`):
 #: exact, and with noise small against the gap (at 0.8 ε, ε / 16 puts them 13 noise levels
 #: apart; at a quarter of that the two bands are one to the eye too).
-TUBE_ROWS = ((0.5, 0.0), (0.8, 0.0), (0.8, 0.0625))
+TUBE_ROWS = ((0.5, 0.0), (0.8, 0.0), (0.8, 0.0625), (1.0, 0.0))
+#: ... and walls about a tolerance apart sampled densely, every ε / 6 with noise ε / 20, as a
+#: thin shell's sliced wall is (every neighbourhood has the other wall on its rim).
+DENSE_ROWS = ((0.95, 0.05), (1.0, 0.05), (1.05, 0.05))
+DENSE_SPACING = 1 / 6
 RING_RADII = (3.0, 8.0)
 RING_SEEDS = 8
 #: The tolerance the circles are fitted at.
@@ -40,13 +44,16 @@ def near_rings_sweep(truth) -> str:
     rows = []
     t = np.linspace(0, 2 * np.pi, 720, endpoint=False)
     circle = np.column_stack([np.cos(t), np.sin(t)])
-    for gap, noise in [(g, n) for g in RING_GAPS for n in RING_NOISE] + list(TUBE_ROWS):
+    rows_asked = ([(g, n, 1 / 3) for g in RING_GAPS for n in RING_NOISE]
+                  + [(g, n, 1 / 3) for g, n in TUBE_ROWS]
+                  + [(g, n, DENSE_SPACING) for g, n in DENSE_ROWS])
+    for gap, noise, spacing in rows_asked:
         right = merged = folded = opened = invalid = 0
         t0 = time.perf_counter()
         for radius in RING_RADII:
             for seed in range(RING_SEEDS):
                 rings = [radius * circle, (radius + gap * RING_EPS) * circle]
-                pts = sample_rings(rings, spacing=RING_EPS / 3, noise=noise * RING_EPS,
+                pts = sample_rings(rings, spacing=spacing * RING_EPS, noise=noise * RING_EPS,
                                    seed=100 + seed)
                 res = wavepoly.fit(pts, RING_EPS)
                 bad = bool(truth.independent_problems(res))
@@ -62,7 +69,8 @@ def near_rings_sweep(truth) -> str:
                 opened += not all(closed)
                 right += apart and not bad and len(res.outliers) == 0
         total = len(RING_RADII) * RING_SEEDS
-        rows.append([f"{gap:g} ε", f"{noise:g} ε", f"{right}/{total}", merged, folded,
+        label = f"{gap:g} ε" + ("" if spacing == 1 / 3 else f", every ε / {1 / spacing:g}")
+        rows.append([label, f"{noise:g} ε", f"{right}/{total}", merged, folded,
                      opened, invalid, time.perf_counter() - t0])
     return ("### Near rings\n\nTwo circles *gap* ε apart, one inside the other (the inner "
             f"{RING_RADII[0] / RING_EPS:g} and {RING_RADII[1] / RING_EPS:g} ε in radius), "
@@ -77,7 +85,8 @@ def near_rings_sweep(truth) -> str:
             "circle's band (four standard deviations wide) leaves half an ε of empty space "
             "between them. The last rows are a thin tube's walls, closer than ε: one ring "
             "down the middle keeps every point within ε but bounds the bore and the wall "
-            "together (*merged*).\n\n"
+            "together (*merged*); those sampled every ε / 6 are walls about a tolerance "
+            "apart as a thin shell's slice gives them.\n\n"
             + table(["gap", "noise", "right", "merged", "folded", "open", "invalid", "seconds"],
                     rows))
 

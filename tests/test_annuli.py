@@ -62,6 +62,24 @@ def test_a_tube_whose_wall_is_thinner_than_the_tolerance_is_two_rings(gap, radiu
     _assert_two_rings(pts, result, rings)
 
 
+@pytest.mark.parametrize("gap", [0.95, 0.98, 1.02])
+def test_rings_a_tolerance_apart_are_two_rings_not_one_or_a_ladder(gap):
+    """Two circles about a tolerance apart, sampled every sixth of one with noise a twentieth
+    (as a thin shell's sliced wall is): every neighbourhood has the other wall on its rim.
+    The ring down the middle must not fold where it is offset onto each wall (`_unfolded`),
+    and where the march stepped across and back, leaving open pieces or lenses (each out
+    along one wall and back along the other), a fifth tighter reading follows each wall
+    (`tighter_reading`). 7 of these 12 cases came out as one ring, open pieces or lenses."""
+    rings = [_circle(2.5), _circle(2.5 - gap * 0.1)]
+    for seed in range(4):
+        pts = sample_rings(rings, spacing=0.1 / 6, noise=0.1 / 20, seed=seed)
+        result = wavepoly.fit(pts, 0.1)
+        assert [c.closed for c in result.contours] == [True, True], seed
+        assert sorted(result.parents) in ([-1, 0], [-1, 1])
+        assert not independent_problems(result)
+        assert distance_to_output(pts, result).max() <= 0.1 * (1 + 1e-9)
+
+
 def test_a_square_tube_keeps_its_corners_on_both_rings():
     """A square tube with a wall 0.8 tolerances thick: both rings, each within the tolerance
     of its own wall (the corners kept)."""
@@ -106,3 +124,29 @@ def test_a_ring_beside_a_wall_that_stops_stays_one():
                      1.08 * np.column_stack([np.cos(beside), np.sin(beside)])])
     ring = OrderedContour(1.04 * _circle(1.0, 60), True, np.arange(len(pts)))
     assert split_annuli([ring], pts, 0.1) == [ring]
+
+
+def test_an_offset_rings_small_fold_is_cut_off_and_a_large_one_refused():
+    """A square whose edge folds over itself in a small loop (as an offset of a chain that
+    bends sharply does) keeps its outline; a ring twisted into a figure eight is refused."""
+    from wavepoly.ordering.annuli import _unfolded
+
+    square = np.array([[0.0, 0.0], [4.0, 0.0], [4.0, 4.0], [2.1, 4.0], [1.9, 4.1],
+                       [1.9, 3.9], [2.1, 3.95], [0.0, 4.0]])
+    assert not shapely.Polygon(square).is_valid
+    ring = _unfolded(square)
+    assert ring is not None and shapely.Polygon(ring).is_valid
+    assert shapely.Polygon(ring).area == pytest.approx(16.0, abs=0.05)
+    eight = np.array([[0.0, 0.0], [2.0, 2.0], [4.0, 0.0], [4.0, 2.0], [2.0, 0.0], [0.0, 2.0]])
+    assert _unfolded(eight) is None
+
+
+def test_an_unfolded_ring_keeps_its_sense_of_travel():
+    """Cut free of its fold, a clockwise ring stays clockwise."""
+    from wavepoly.ordering.annuli import _unfolded
+
+    square = np.array([[0.0, 0.0], [4.0, 0.0], [4.0, 4.0], [2.1, 4.0], [1.9, 4.1],
+                       [1.9, 3.9], [2.1, 3.95], [0.0, 4.0]])
+    for ring in (square, square[::-1]):
+        ccw = shapely.LinearRing(ring).is_ccw
+        assert shapely.LinearRing(_unfolded(ring)).is_ccw == ccw

@@ -148,12 +148,15 @@ def test_a_uniform_layer_in_a_face_takes_its_larger_parts_section():
     assert len(moved) == 2 and any("flat face's points" in n for n in res.notes)
 
 
-def test_at_its_mid_plane_the_steps_layer_zigzags(monkeypatch):
+def test_at_its_mid_plane_the_steps_layer_is_not_its_section(monkeypatch):
     """The test above can fail: at the mid-plane, in the step's noise, the section mixes the
-    face's points with the walls' (measured: 72 vertices)."""
+    face's points with the walls' (measured: one ring zigzagging between them in 72 vertices,
+    or, read as two walls, the wall and a phantom ring a tolerance outside it)."""
     import wavepoly.bands as bands
 
     monkeypatch.setattr(bands, "section_height", lambda s, bottom, top, tol:
                         (0.5 * (bottom + top), None))
     _, _, step = _uniform_in_faces()
-    assert sum(len(c.vertices) for c in step.fit.contours) > 20
+    contours = step.fit.contours
+    assert (len(contours) != 1 or len(contours[0].vertices) > 20
+            or abs(abs(contours[0].signed_area) - 4.0) > 8.0 * EPS)

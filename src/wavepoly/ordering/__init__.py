@@ -105,7 +105,7 @@ from .noise import (
     noise_adaptive_nodes,
     runs_through_the_middle,
 )
-from .rereading import FRAGMENTS, chosen_reading, other_thinnings
+from .rereading import FRAGMENTS, chosen_reading, other_thinnings, tighter_reading
 from .spacing import (
     SPACING_SUBSET,
     SPACINGS_PER_RADIUS,
@@ -153,7 +153,8 @@ def order_points(points: FloatArray, radius: float, *, seed: int = 0, min_points
     radius : fixed neighbourhood radius, in the points' units (the paper: about the shape
         tolerance). Widened, with a note, when the median point spacing exceeds radius / 3;
         halved, with a note, where it spans parts thinner than it, or read with another seed
-        where a clean reading left outlines open (`wavepoly.ordering.rereading`).
+        or a fifth tighter where a clean reading left outlines open
+        (`wavepoly.ordering.rereading`).
     seed : seed of the random choices (which neighbourhoods are kept when thinning).
     min_points : contours with fewer ordered points than this are treated as outliers.
     tolerance : the shape tolerance the contours will be fitted to, if any. Where it is below
@@ -193,7 +194,9 @@ def order_points(points: FloatArray, radius: float, *, seed: int = 0, min_points
                          tolerance=tolerance)
         ordering = chosen(read, seed)
         other = other_thinnings(ordering, pts, seed, lambda s: chosen(partial(read, seed=s), s))
-        return ordering if other is None else other
+        ordering = ordering if other is None else other
+        tighter = tighter_reading(ordering, pts, spacing, read)
+        return ordering if tighter is None else tighter
     ordering = read(sparse=True)
     # a crust test set, or a noisy band sampled more densely than the tolerance?
     clean, noisy = ordering, read(sparse=False)

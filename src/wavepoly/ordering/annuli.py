@@ -55,6 +55,9 @@ TWO_WALL_SHARE = 0.7
 #: (a noisy triangle five tolerances across, read as a clean sample); two walls with
 #: noise a sixteenth of the gap between them give about 0.1.
 TYPICAL_SHARPNESS = 0.15
+#: An offset ring may fold into small loops where its chain bends sharply; those are cut off
+#: where they hold less than this share of its area (a fold of a node or two: about 10^-5).
+FOLDS_SHARE = 0.01
 #: Walls closer than this many radii are one curve: within a tenth of a tolerance of the
 #: ring, and a chain's chords over a curve's bend spread a wall's own offsets as far.
 MIN_GAP = 0.2
@@ -131,9 +134,32 @@ def _two_walls(c: OrderedContour, points: FloatArray, radius: float
                                       stretches - 1), np.flatnonzero(two))
     normal = _node_normals(xy)
     low_ring, high_ring = xy + low[node, None] * normal, xy + high[node, None] * normal
-    if shapely.Polygon(high_ring).area >= shapely.Polygon(low_ring).area:
-        return [high_ring, low_ring]
-    return [low_ring, high_ring]
+    rings = [_unfolded(low_ring), _unfolded(high_ring)]
+    if any(r is None for r in rings):
+        return None
+    return sorted(rings, key=lambda r: -shapely.Polygon(r).area)
+
+
+def _unfolded(ring: FloatArray) -> FloatArray | None:
+    """The ring less the small loops it folds into where it is offset from a chain that
+    bends more sharply than the offset (a zigzag's remnant that the smoothing left): the
+    outline of its largest part, where that holds all but `FOLDS_SHARE` of the area; None
+    where the ring does not fold so slightly."""
+    polygon = shapely.Polygon(ring)
+    if polygon.is_valid:
+        return ring
+    parts = [p for p in shapely.get_parts(shapely.make_valid(polygon))
+             if isinstance(p, shapely.Polygon)]
+    if not parts:
+        return None
+    largest = max(parts, key=lambda p: p.area)
+    if largest.area < (1 - FOLDS_SHARE) * sum(p.area for p in parts):
+        return None
+    out = shapely.get_coordinates(largest.exterior)[:-1]
+    # in the chain's own sense of travel, as the ring that did not fold keeps it
+    turning = np.sum(ring[:, 0] * np.roll(ring[:, 1], -1) - np.roll(ring[:, 0], -1) * ring[:, 1])
+    same = largest.exterior.is_ccw == (turning > 0)
+    return out if same else out[::-1]
 
 
 def _nearest_passed(stretch: np.ndarray, passed: np.ndarray) -> np.ndarray:

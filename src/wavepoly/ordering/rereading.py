@@ -96,6 +96,18 @@ COARSER_POINTS = 200_000
 #: area), not a part's outline, which a neighbourhood of that radius could not have spanned.
 FOLDED_WIDTH = 1.0
 
+#: A clean reading that left outlines open, and that no other reading closed, is read
+#: again at this share of the radius where that still holds `SPACINGS_PER_RADIUS` spacings:
+#: two walls about one radius apart (two rings a tolerance apart) put the other wall on each
+#: neighbourhood's rim, and the march steps across and back, leaving a ladder of open pieces
+#: that meet end to end; a fifth smaller, a neighbourhood holds one wall (concentric rings
+#: 0.95-1.02 tolerances apart, 8 seeds at each of five gaps: 9 of 40 left open, 0 so read).
+TIGHTER_RADIUS = 0.8
+#: ... also where it closed rings narrower on average than this many radii: the pieces of
+#: such a ladder joined into lenses, each out along one wall and back along the other (rings
+#: 1.02 tolerances apart: 1 of 4 seeds), kept where the tighter reading has fewer of them.
+LENS_WIDTH = 1.5
+
 #: A clean reading that left outlines open is read again with up to this many other seeds of
 #: the thinning (`other_thinnings`): of the silhouette sweep's 25 misses (slits and thin limbs
 #: whose walls run within the radius of each other), 9 come out right with six (at seeds 1,
@@ -236,6 +248,37 @@ def _coarser_reading(ordering: Ordering, pts: FloatArray, radius: float, seed: i
     note = (f"read at a radius of {coarse:.4g}: the point spacing varies across the scan, and "
             f"at {radius:.4g} the march broke outlines where the points are sparsest")
     return replace(wide, notes=(*wide.notes, note))
+
+
+def tighter_reading(ordering: Ordering, pts: FloatArray, spacing: float,
+                    read: Callable[..., Ordering]) -> Ordering | None:
+    """The scan read at `TIGHTER_RADIUS` x the radius of ``ordering``, where that clean
+    reading, the last one tried, left outlines open or closed lenses (`_lenses`) and the
+    tighter radius still holds `SPACINGS_PER_RADIUS` spacings; kept where it closes every
+    outline (`_closes_all`) and leaves fewer lenses, or no more where outlines were open;
+    else None."""
+    radius = ordering.radius
+    tighter = TIGHTER_RADIUS * radius
+    lenses = _lenses(ordering, radius)
+    if (not ordering.clean or _open(ordering) + lenses == 0 or len(pts) > COARSER_POINTS
+            or not 0 < SPACINGS_PER_RADIUS * spacing <= tighter):
+        return None
+    again = read(radius=tighter, sparse=False)
+    left = _lenses(again, radius)
+    if not (_closes_all(again, ordering, tighter)
+            and (left < lenses or (_open(ordering) > 0 and left == lenses))):
+        return None
+    note = (f"read at a radius of {tighter:.4g}: at {radius:.4g} the march stepped between "
+            f"walls about a radius apart, leaving {_open(ordering)} outlines open and "
+            f"{lenses} closed across them")
+    return replace(again, notes=(*again.notes, note))
+
+
+def _lenses(ordering: Ordering, radius: float) -> int:
+    """How many closed contours of ``ordering`` are narrower on average than `LENS_WIDTH`
+    radii (`wavepoly.geometry.mean_width`)."""
+    return sum(c.closed and mean_width(c.points) < LENS_WIDTH * radius
+               for c in ordering.contours)
 
 
 def _exact_reading(ordering: Ordering, pts: FloatArray, tolerance: float | None,
