@@ -80,6 +80,7 @@ def test_a_thin_walled_tube_is_sliced_into_rings_not_discs():
     for layer in fitted:
         assert [c.closed for c in layer.fit.contours] == [True, True]
         assert sorted(layer.fit.parents) == [-1, 0] or sorted(layer.fit.parents) == [-1, 1]
+        assert layer.fit.validity.valid  # the hole 0.8 ε inside its outline, never across
     true_volume = np.pi * (6.0**2 - (6.0 - wall) ** 2) * 6.0
     assert layer_mesh(res).volume == pytest.approx(true_volume, rel=0.25)
 
