@@ -25,6 +25,9 @@ CLOUD_POINTS = 300_000
 TUBE_WALLS = (0.5, 0.8, 1.2)
 TUBE_NOISES = (1 / 20, 1 / 10, 1 / 5)
 TUBE_POINTS = 60_000
+#: The columns of the tables, as `_row` fills them.
+COLUMNS = ["case", "layers", "right", "at holes", "Hausdorff med", "p95", "area", "volume",
+           "invalid", "open", "STL watertight", "bodies", "voids", "staircase", "seconds"]
 
 
 def _truth():
@@ -81,9 +84,7 @@ def run() -> str:
             "the mesh's; *bodies*: the STL's solid shells, *voids*: its closed cavities (a "
             "layer's hole covered by the layers above and below). *staircase*: the largest "
             "distance of a cloud point to the surface of the stacked layers (3D), in ε.\n\n"
-            + table(["case", "layers", "right", "at holes", "Hausdorff med", "p95", "area",
-                     "volume", "invalid", "open", "STL watertight", "bodies", "voids",
-                     "staircase", "seconds"], rows)
+            + table(COLUMNS, rows)
             + raw
             + "\n\n**Turbine blade, uniform layers** (the contact sheet: every layer's "
               "contours):\n\n![turbine blade layers](figures/turbine-layers.png)")
@@ -151,9 +152,7 @@ def _thin_tubes(truth) -> str:
             "(`wavepoly.sheets`), which needs the faces about 8 σ apart. Columns as above; "
             "*volume* is the layer model's against the tube's (a layer drawn as a disc gives "
             "30-70 x).\n\n"
-            + table(["case", "layers", "right", "at holes", "Hausdorff med", "p95", "area",
-                     "volume", "invalid", "open", "STL watertight", "bodies", "voids",
-                     "staircase", "seconds"], rows))
+            + table(COLUMNS, rows))
 
 
 def _row(label, res, mesh, eps, seconds, truth) -> list:

@@ -127,9 +127,9 @@ def own_sheet(centred: FloatArray, values: FloatArray, axes: FloatArray, *, fan:
                           & (values[:, 0] > WIDE_WALL_FLATNESS * values[:, 1]))
     if len(wide):
         angle = np.arange(FAN_STARTS) * np.pi / FAN_STARTS
-        fan = (np.cos(angle)[None, :, None] * axes[wide, None, :, 0]
-               + np.sin(angle)[None, :, None] * axes[wide, None, :, 1])
-        high[wide], sharpness[wide] = _sides(centred[wide], fan)
+        starts = (np.cos(angle)[None, :, None] * axes[wide, None, :, 0]
+                  + np.sin(angle)[None, :, None] * axes[wide, None, :, 1])
+        high[wide], sharpness[wide] = _sides(centred[wide], starts)
     rows = np.flatnonzero(sharpness < SHEET_SHARPNESS)
     rows = rows[_parallel(centred[rows], high[rows])]
     weight[rows] = (high[rows] == high[rows, :1]).astype(float)  # the point's own face
