@@ -157,8 +157,7 @@ def _unfolded(ring: FloatArray) -> FloatArray | None:
         return None
     out = shapely.get_coordinates(largest.exterior)[:-1]
     # in the chain's own sense of travel, as the ring that did not fold keeps it
-    turning = np.sum(ring[:, 0] * np.roll(ring[:, 1], -1) - np.roll(ring[:, 0], -1) * ring[:, 1])
-    same = largest.exterior.is_ccw == (turning > 0)
+    same = largest.exterior.is_ccw == shapely.LinearRing(ring).is_ccw
     return out if same else out[::-1]
 
 
