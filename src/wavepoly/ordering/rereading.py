@@ -16,9 +16,10 @@ from dataclasses import replace
 
 import numpy as np
 import shapely
+from scipy.spatial import cKDTree
 
 from ..geometry import curve_line, mean_width, polyline_distance
-from ..types import FloatArray, Ordering
+from ..types import FloatArray, OrderedContour, Ordering
 from .contours import clean_scan
 from .noise import HALO_SPREAD, noise_at
 from .spacing import SPACINGS_PER_RADIUS, sparse_side_spacing
@@ -107,6 +108,21 @@ TIGHTER_RADIUS = 0.8
 #: such a ladder joined into lenses, each out along one wall and back along the other (rings
 #: 1.02 tolerances apart: 1 of 4 seeds), kept where the tighter reading has fewer of them.
 LENS_WIDTH = 1.5
+#: Where outlines were left open, the tighter reading is tried only where the open pieces
+#: run beside another wall: at least this share of their nodes (`BESIDE_REACH` radii of arc
+#: or more from their ends) has points spread across them (`BESIDE_SPREAD`). A ladder's
+#: pieces do all along (rings 1-1.05 tolerances apart: 99.6 % of their nodes); a line
+#: drawing's strokes only at a junction or a sharp bend, 1-8 % (Deery, Fishi, Snail, f2, f4
+#: sampled every third to tenth of a tolerance), and read tighter they closed into rings
+#: through their junctions (Fishi every tenth: 4 rings for 2 closed and 4 open strokes).
+BESIDE_SHARE = 0.3
+#: A node's points are those within this many radii of it (the other wall a radius away
+#: falls within, a stretch of it a radius long either side)...
+BESIDE_REACH = 1.5
+#: ... and they run beside another wall where their deviation across their main axis is at
+#: least this many radii: two walls a radius apart put it at half a radius, one wall's
+#: scatter at most a quarter (noise a quarter of a tolerance, the clean bound).
+BESIDE_SPREAD = 0.35
 
 #: A clean reading that left outlines open is read again with up to this many other seeds of
 #: the thinning (`other_thinnings`): of the silhouette sweep's 25 misses (slits and thin limbs
@@ -253,19 +269,23 @@ def _coarser_reading(ordering: Ordering, pts: FloatArray, radius: float, seed: i
 def tighter_reading(ordering: Ordering, pts: FloatArray, spacing: float,
                     read: Callable[..., Ordering]) -> Ordering | None:
     """The scan read at `TIGHTER_RADIUS` x the radius of ``ordering``, where that clean
-    reading, the last one tried, left outlines open or closed lenses (`_lenses`) and the
-    tighter radius still holds `SPACINGS_PER_RADIUS` spacings; kept where it closes every
-    outline (`_closes_all`) and leaves fewer lenses, or no more where outlines were open;
-    else None."""
+    reading, the last one tried, left outlines open beside other walls (`_run_beside`) or
+    closed lenses (`_lenses`) and the tighter radius still holds `SPACINGS_PER_RADIUS`
+    spacings; kept where it closes every outline (`_closes_all`) and leaves fewer lenses,
+    or no more where outlines were open; else None."""
     radius = ordering.radius
     tighter = TIGHTER_RADIUS * radius
     lenses = _lenses(ordering, radius)
     if (not ordering.clean or _open(ordering) + lenses == 0 or len(pts) > COARSER_POINTS
             or not 0 < SPACINGS_PER_RADIUS * spacing <= tighter):
         return None
+    if _open(ordering) > 0 and not _run_beside(ordering, pts):
+        return None  # strokes meeting at junctions, not a ladder between two walls
     again = read(radius=tighter, sparse=False)
     left = _lenses(again, radius)
-    if not (_closes_all(again, ordering, tighter)
+    # the lenses stand for walls, not for outlines of their own that it must keep
+    walls = replace(ordering, contours=[c for c in ordering.contours if not _lens(c, radius)])
+    if not (_closes_all(again, walls, tighter)
             and (left < lenses or (_open(ordering) > 0 and left == lenses))):
         return None
     note = (f"read at a radius of {tighter:.4g}: at {radius:.4g} the march stepped between "
@@ -274,11 +294,46 @@ def tighter_reading(ordering: Ordering, pts: FloatArray, spacing: float,
     return replace(again, notes=(*again.notes, note))
 
 
+def _run_beside(ordering: Ordering, pts: FloatArray) -> bool:
+    """Whether at least `BESIDE_SHARE` of the open contours' nodes, `BESIDE_REACH` radii of
+    arc or more from their ends, have the points of ``pts`` within `BESIDE_REACH` radii
+    spread `BESIDE_SPREAD` radii or more across their main axis: a ladder's pieces, which
+    step between two walls about a radius apart, not strokes."""
+    reach = BESIDE_REACH * ordering.radius
+    nodes = [c.points[(arc >= reach) & (arc <= arc[-1] - reach)]
+             for c in ordering.contours if not c.closed
+             for arc in [np.concatenate([[0.0], np.cumsum(np.linalg.norm(
+                 np.diff(c.points, axis=0), axis=1))])]]
+    inner = np.vstack([np.zeros((0, 2)), *nodes])
+    if len(inner) == 0:
+        return False
+    near = cKDTree(pts).query_ball_point(inner, reach)
+    owner = np.repeat(np.arange(len(inner)), [len(n) for n in near])
+    across = _across_spread(pts[np.concatenate(near).astype(np.intp)], owner, len(inner))
+    return bool((across >= BESIDE_SPREAD * ordering.radius).mean() >= BESIDE_SHARE)
+
+
+def _across_spread(points: FloatArray, owner: np.ndarray, k: int) -> FloatArray:
+    """For each of ``k`` groups of ``points`` (by ``owner``), the deviation along their
+    covariance's minor axis."""
+    count = np.maximum(np.bincount(owner, minlength=k), 1)
+    mean = np.stack([np.bincount(owner, points[:, i], k) for i in range(2)], axis=1)
+    d = points - (mean / count[:, None])[owner]
+    xx, yy, xy = (np.bincount(owner, u * v, k) / count
+                  for u, v in ((d[:, 0], d[:, 0]), (d[:, 1], d[:, 1]), (d[:, 0], d[:, 1])))
+    minor = 0.5 * (xx + yy) - np.sqrt(0.25 * (xx - yy) ** 2 + xy ** 2)
+    return np.sqrt(np.maximum(minor, 0.0))
+
+
 def _lenses(ordering: Ordering, radius: float) -> int:
     """How many closed contours of ``ordering`` are narrower on average than `LENS_WIDTH`
     radii (`wavepoly.geometry.mean_width`)."""
-    return sum(c.closed and mean_width(c.points) < LENS_WIDTH * radius
-               for c in ordering.contours)
+    return sum(_lens(c, radius) for c in ordering.contours)
+
+
+def _lens(c: OrderedContour, radius: float) -> bool:
+    """Whether ``c`` is closed and narrower on average than `LENS_WIDTH` x ``radius``."""
+    return c.closed and mean_width(c.points) < LENS_WIDTH * radius
 
 
 def _exact_reading(ordering: Ordering, pts: FloatArray, tolerance: float | None,
