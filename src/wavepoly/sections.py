@@ -321,7 +321,7 @@ def _refine_shallow(nodes: FloatArray, tree: cKDTree, which: IntArray,
         weight = own_sheet(*principal(nbr)[1:], fan=False)
         a = quadric_terms(rel[..., 0], rel[..., 1]) * weight[..., None]
         coef, inverse = quadric_fit(a, rel[..., 2] * weight)
-        resid = rel[..., 2] * weight - np.einsum("nki,ni->nk", a, coef)
+        resid = rel[..., 2] * weight - (a @ coef[..., None])[..., 0]
         noise = np.einsum("nk,nk->n", resid, resid) / (weight.sum(axis=1) - 6)
         grad = coef[:, 1:3]
         slope = np.hypot(grad[:, 0], grad[:, 1])
@@ -357,13 +357,13 @@ def _local_quadric(centred: FloatArray, axes: FloatArray, weight: FloatArray
     axes: its (n, 6) coefficients and the root-mean-square of its residuals. A quadric rather
     than the plane, so that projecting a point onto it removes the noise and not the curvature
     (the plane through the centroid of a curved wall lies about r^2 / 6R inside it)."""
-    local = np.einsum("nki,nij->nkj", centred, axes)  # (normal, minor, major) coordinates
+    local = centred @ axes  # (normal, minor, major) coordinates
     terms = quadric_terms(local[..., 2], local[..., 1])
     height = local[..., 0]
     if weight.min(initial=1.0) < 1.0:
         terms, height = terms * weight[..., None], height * weight
     coef, _ = quadric_fit(terms, height)
-    resid = height - np.einsum("nki,ni->nk", terms, coef)
+    resid = height - (terms @ coef[..., None])[..., 0]
     dof = np.maximum(1.0, weight.sum(axis=1) - 6)
     return coef, np.sqrt(np.einsum("nk,nk->n", resid, resid) / dof)
 
@@ -385,10 +385,10 @@ def quadric_fit(terms: FloatArray, h: FloatArray) -> tuple[FloatArray, FloatArra
     """Least-squares quadric of each neighbourhood, ``h`` over its (n, k, 6) ``terms``: the
     (n, 6) coefficients and the inverses of the (ridged) normal equations, whose diagonal
     scales the coefficients' variances."""
-    gram = np.einsum("nki,nkj->nij", terms, terms)
+    gram = np.swapaxes(terms, 1, 2) @ terms  # batched BLAS: einsum is 6x slower
     gram += QUADRIC_RIDGE * np.einsum("nii->n", gram)[:, None, None] * np.eye(6)
     inverse = np.linalg.inv(gram)  # 6 x 6 per point
-    return np.einsum("nij,nkj,nk->ni", inverse, terms, h), inverse
+    return (inverse @ (np.swapaxes(terms, 1, 2) @ h[..., None]))[..., 0], inverse
 
 
 def section_points(surface: SurfaceSamples, rows: slice, z: float) -> FloatArray:
@@ -439,10 +439,10 @@ def _without_strays(xy: FloatArray) -> FloatArray:
     _, idx = cKDTree(xy).query(xy, k=k)
     nbr = xy[idx]
     centred = nbr - nbr.mean(axis=1, keepdims=True)
-    cov = np.einsum("nki,nkj->nij", centred, centred)
+    cov = np.swapaxes(centred, 1, 2) @ centred
     _, vectors = np.linalg.eigh(cov)
     normal = vectors[:, :, 0]
-    off = np.abs(np.einsum("nki,ni->nk", centred, normal))
+    off = np.abs((centred @ normal[..., None])[..., 0])
     own = off[:, 0]
     typical = np.median(off, axis=1)
     return xy[~(own > STRAY_FACTOR * np.maximum(typical, 1e-300))]

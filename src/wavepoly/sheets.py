@@ -83,12 +83,12 @@ def principal(nbr: FloatArray, weight: FloatArray | None = None) -> tuple[FloatA
     if weight is None:
         centroid = nbr.mean(axis=1)
         centred = nbr - centroid[:, None]
-        values, axes = np.linalg.eigh(np.einsum("nki,nkj->nij", centred, centred))
+        values, axes = np.linalg.eigh(np.swapaxes(centred, 1, 2) @ centred)
         return centroid, centred, values, axes
-    centroid = np.einsum("nk,nki->ni", weight, nbr) / weight.sum(axis=1)[:, None]
+    centroid = (weight[:, None, :] @ nbr)[:, 0] / weight.sum(axis=1)[:, None]
     centred = nbr - centroid[:, None]
     own = centred * weight[..., None]
-    values, axes = np.linalg.eigh(np.einsum("nki,nkj->nij", own, own))
+    values, axes = np.linalg.eigh(np.swapaxes(own, 1, 2) @ own)
     return centroid, centred, values, axes
 
 
@@ -151,10 +151,10 @@ def sheet_sides_reference(centred: FloatArray, starts: FloatArray
     high = np.zeros((n, k), dtype=bool)
     sharpness = np.full(n, np.inf)
     for c in range(starts.shape[1]):
-        side, sharp = _two_faces(np.einsum("nki,ni->nk", centred, starts[:, c]))
+        side, sharp = _two_faces((centred @ starts[:, c, :, None])[..., 0])
         for _ in range(SHEET_ROUNDS):
             across = _side_centred_normal(centred, side)
-            side, sharp = _two_faces(np.einsum("nki,ni->nk", centred, across))
+            side, sharp = _two_faces((centred @ across[..., None])[..., 0])
         better = sharp < sharpness
         high[better], sharpness[better] = side[better], sharp[better]
     return high, sharpness
@@ -191,7 +191,7 @@ def _side_centred_normal(centred: FloatArray, high: np.ndarray) -> FloatArray:
     mean_high = np.where(side, centred, 0.0).sum(axis=1) / count_high
     mean_low = np.where(side, 0.0, centred).sum(axis=1) / count_low
     local = centred - np.where(side, mean_high[:, None], mean_low[:, None])
-    _, axes = np.linalg.eigh(np.einsum("nki,nkj->nij", local, local))
+    _, axes = np.linalg.eigh(np.swapaxes(local, 1, 2) @ local)
     return axes[:, :, 0]
 
 
@@ -203,7 +203,7 @@ def _parallel(centred: FloatArray, high: np.ndarray) -> np.ndarray:
         w = side[..., None].astype(float)
         mean = (w * centred).sum(axis=1) / np.maximum(w.sum(axis=1), 1.0)
         local = (centred - mean[:, None]) * w
-        _, axes = np.linalg.eigh(np.einsum("nki,nkj->nij", local, local))
+        _, axes = np.linalg.eigh(np.swapaxes(local, 1, 2) @ local)
         normals.append(axes[:, :, 0])
     cosine = np.abs(np.einsum("ni,ni->n", *normals))
     return cosine >= np.cos(SHEETS_PARALLEL)
