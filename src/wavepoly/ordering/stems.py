@@ -180,13 +180,16 @@ def _slit_to_a_dead_end(lines: list[FloatArray], closed: list[bool], met: list[J
     wide part as a hole touching its outline at the slit's mouth, and its narrow part as a
     stem from that hole (`faces.outline_of_faces`, ``open_holes``). Every piece must stay in
     the component, so a stem's root on its cycle is no dead end."""
-    mine = {pick.index(k) for k in taken}
-    for end in t_ends(met):
-        if end[0] not in mine:
-            continue
-        edges, node_xy = piece_graph(lines, closed, radius, free=frozenset([end]), met=met)
+    # the graph of the component's own lines: no other line's end meets them
+    mine = sorted(pick.index(k) for k in taken)
+    at = {old: new for new, old in enumerate(mine)}
+    own_met = [(at[i], e, at[j], s, q) for i, e, j, s, q in met if i in at and j in at]
+    own_lines, own_closed = [lines[i] for i in mine], [closed[i] for i in mine]
+    for end in t_ends(own_met):
+        edges, node_xy = piece_graph(own_lines, own_closed, radius, free=frozenset([end]),
+                                     met=own_met)
         for comp in components(edges, len(node_xy)):
-            if {pick[edges[k].piece] for k in comp} != set(taken):
+            if {edges[k].piece for k in comp} != set(range(len(mine))):
                 continue
             comp = [k for k in comp if not is_speck(edges[k], radius)]
             ring = outline_of_faces([edges[k].xy for k in comp], members, radius,
