@@ -111,7 +111,7 @@ LENS_WIDTH = 1.5
 #: Where outlines were left open, the tighter reading is tried only where the open pieces
 #: run beside another wall: at least this share of their nodes (`BESIDE_REACH` radii of arc
 #: or more from their ends) has points spread across them (`BESIDE_SPREAD`). A ladder's
-#: pieces do all along (rings 1-1.05 tolerances apart: 99.6 % of their nodes); a line
+#: pieces do all along (rings 1-1.05 tolerances apart: 99-100 % of their nodes); a line
 #: drawing's strokes only at a junction or a sharp bend, 1-8 % (Deery, Fishi, Snail, f2, f4
 #: sampled every third to tenth of a tolerance), and read tighter they closed into rings
 #: through their junctions (Fishi every tenth: 4 rings for 2 closed and 4 open strokes).
@@ -300,17 +300,20 @@ def _run_beside(ordering: Ordering, pts: FloatArray) -> bool:
     spread `BESIDE_SPREAD` radii or more across their main axis: a ladder's pieces, which
     step between two walls about a radius apart, not strokes."""
     reach = BESIDE_REACH * ordering.radius
-    nodes = [c.points[(arc >= reach) & (arc <= arc[-1] - reach)]
-             for c in ordering.contours if not c.closed
-             for arc in [np.concatenate([[0.0], np.cumsum(np.linalg.norm(
-                 np.diff(c.points, axis=0), axis=1))])]]
-    inner = np.vstack([np.zeros((0, 2)), *nodes])
+    inner = np.vstack([np.zeros((0, 2)), *(_away_from_ends(c.points, reach)
+                                           for c in ordering.contours if not c.closed)])
     if len(inner) == 0:
         return False
     near = cKDTree(pts).query_ball_point(inner, reach)
     owner = np.repeat(np.arange(len(inner)), [len(n) for n in near])
     across = _across_spread(pts[np.concatenate(near).astype(np.intp)], owner, len(inner))
     return bool((across >= BESIDE_SPREAD * ordering.radius).mean() >= BESIDE_SHARE)
+
+
+def _away_from_ends(xy: FloatArray, reach: float) -> FloatArray:
+    """The nodes of an open chain at least ``reach`` along it from both its ends."""
+    arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(xy, axis=0), axis=1))])
+    return xy[(arc >= reach) & (arc <= arc[-1] - reach)]
 
 
 def _across_spread(points: FloatArray, owner: np.ndarray, k: int) -> FloatArray:
