@@ -16,11 +16,11 @@ from dataclasses import replace
 
 import numpy as np
 import shapely
-from scipy.spatial import cKDTree
 
 from ..geometry import curve_line, mean_width, polyline_distance
 from ..types import FloatArray, OrderedContour, Ordering
 from .contours import clean_scan
+from .neighbourhoods import cell_atoms, moments, principal_axes
 from .noise import HALO_SPREAD, noise_at
 from .spacing import SPACINGS_PER_RADIUS, sparse_side_spacing
 
@@ -304,9 +304,9 @@ def _run_beside(ordering: Ordering, pts: FloatArray) -> bool:
                                            for c in ordering.contours if not c.closed)])
     if len(inner) == 0:
         return False
-    near = cKDTree(pts).query_ball_point(inner, reach)
-    owner = np.repeat(np.arange(len(inner)), [len(n) for n in near])
-    across = _across_spread(pts[np.concatenate(near).astype(np.intp)], owner, len(inner))
+    # each point its own atom: the spread of the points themselves
+    _, cov = moments(inner, cell_atoms(pts, reach, min_per_cell=np.inf), reach)
+    across = principal_axes(cov)[2]
     return bool((across >= BESIDE_SPREAD * ordering.radius).mean() >= BESIDE_SHARE)
 
 
@@ -314,18 +314,6 @@ def _away_from_ends(xy: FloatArray, reach: float) -> FloatArray:
     """The nodes of an open chain at least ``reach`` along it from both its ends."""
     arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(xy, axis=0), axis=1))])
     return xy[(arc >= reach) & (arc <= arc[-1] - reach)]
-
-
-def _across_spread(points: FloatArray, owner: np.ndarray, k: int) -> FloatArray:
-    """For each of ``k`` groups of ``points`` (by ``owner``), the deviation along their
-    covariance's minor axis."""
-    count = np.maximum(np.bincount(owner, minlength=k), 1)
-    mean = np.stack([np.bincount(owner, points[:, i], k) for i in range(2)], axis=1)
-    d = points - (mean / count[:, None])[owner]
-    xx, yy, xy = (np.bincount(owner, u * v, k) / count
-                  for u, v in ((d[:, 0], d[:, 0]), (d[:, 1], d[:, 1]), (d[:, 0], d[:, 1])))
-    minor = 0.5 * (xx + yy) - np.sqrt(0.25 * (xx - yy) ** 2 + xy ** 2)
-    return np.sqrt(np.maximum(minor, 0.0))
 
 
 def _lenses(ordering: Ordering, radius: float) -> int:
