@@ -567,6 +567,20 @@ def test_intel_walls_below_their_halo_are_not_zigzags(shared_data):
     assert not any("halo" in n for n in high.notes) and high.suggested_tolerance is None
 
 
+@pytest.mark.parametrize("eps", [0.08, 0.09])
+def test_intel_walls_a_little_below_four_scatters_are_not_zigzags(shared_data, eps):
+    """At 0.08-0.09 the Intel map measured 11 points per radius by the spacing of neighbours
+    (points per area across its bands), under a dense curve's 12, and was read as a clean
+    sparse sample: every stray within reach of a wall became a corner, 281-310 teeth and
+    2.3-2.5 x the vertices at 0.1, in 40 s. Its walls hold 30-40 points per radius; read as
+    the noisy scan it is, they have about as few teeth as at 0.1 (21)."""
+    pts = wavepoly.read_points(shared_data / "lidar2d" / "intel-corrected.log.gz")
+    result = wavepoly.fit(pts, eps)
+    _valid(pts, result)
+    assert teeth(result) <= 60
+    assert result.n_vertices < 1.5 * 1719  # at 0.1
+
+
 @pytest.mark.parametrize("text", ["8", "e", "%"])
 def test_glyphs_scanned_noisier_than_the_tolerance_are_clean_outlines(text):
     """Glyphs sampled with scatter 0.7 x the tolerance: a polygon keeping every point within

@@ -111,6 +111,7 @@ from .spacing import (
     SPACINGS_PER_RADIUS,
     curve_spacing,
     median_spacing,
+    points_per_radius,
     spacing_bound,
 )
 from .strokes import stroke_contours
@@ -227,8 +228,8 @@ def _read(pts: FloatArray, radius: float, given: float, seed: int, min_points: i
     rng = np.random.default_rng(seed)
     nodes, atoms, scatter = noise_adaptive_nodes(pts, radius, sparse,
                                                  SPACINGS_PER_RADIUS * spacing)
-    clean = clean_scan(nodes.noise, radius, radius / spacing if spacing > 0 else np.inf,
-                       scatter)
+    clean = clean_scan(nodes.noise, radius,
+                       points_per_radius(pts, radius, seed) if spacing > 0 else np.inf, scatter)
     middle = tolerance is not None and runs_through_the_middle(pts, tolerance, nodes.noise,
                                                                scatter)
     corner_gap = max(CORNER_GAP * radius, CORNER_NOISE * nodes.noise) if middle else None

@@ -19,10 +19,10 @@ import shapely
 
 from ..geometry import curve_line, mean_width, polyline_distance
 from ..types import FloatArray, OrderedContour, Ordering
-from .contours import clean_scan
+from .contours import DENSE_CURVE, clean_scan
 from .neighbourhoods import cell_atoms, moments, principal_axes
 from .noise import HALO_SPREAD, noise_at
-from .spacing import SPACINGS_PER_RADIUS, sparse_side_spacing
+from .spacing import SPACINGS_PER_RADIUS, points_per_radius, sparse_side_spacing
 
 #: A sparse sample is read both ways, as a clean sparse curve and as noise. A noisy band read
 #: as a clean sample falls apart into fragments, each a zigzag across part of the band (fish.txt
@@ -340,9 +340,13 @@ def _exact_reading(ordering: Ordering, pts: FloatArray, tolerance: float | None,
     reading's own contours are open, leaves out at most a tenth of what it did
     (`EXACT_GAIN`: letters packed side by side, whose noisy reading is open zigzags across
     them), and in the second case leaves fewer outlines open or fewer points out; else
-    None."""
-    if tolerance is None or ordering.noise == 0:
-        return None
+    None. Never a dense band (`DENSE_CURVE` points per radius along it or more): the Freiburg
+    map at 0.06 (220 per radius) left 14 % out through the middle, and read exactly it held
+    them all by zigzagging through its bands: 1236 teeth in 130 s, against 49 in 19 s
+    through the middle."""
+    if (tolerance is None or ordering.noise == 0
+            or points_per_radius(pts, ordering.radius) >= DENSE_CURVE):
+        return None  # a dense band's neighbourhoods follow any turn: its spread is noise
     left_out = _left_out(ordering, pts, tolerance)
     shaped = (not ordering.through_the_middle and ordering.noise > SHAPE_SPREAD * ordering.scatter
               and (_open(ordering) > 0 or len(ordering.outliers) > 0))

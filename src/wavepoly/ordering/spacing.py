@@ -66,6 +66,33 @@ def spacing_bound(points: FloatArray, seed: int, subset: int = SPACING_SUBSET) -
     return curve_spacing(points[pick], seed=seed) * np.sqrt(subset / len(points))
 
 
+#: Points probed for `points_per_radius`: its median is stable to a few per cent.
+DENSITY_SAMPLE = 2_000
+
+
+def points_per_radius(points: FloatArray, radius: float, seed: int = 0,
+                      subset: int = SPACING_SUBSET, sample: int = DENSITY_SAMPLE) -> float:
+    """How many points a curve holds per ``radius`` of its length: half the median number of
+    other points within ``radius`` of a sample of them (on clouds larger than ``subset``, of a
+    random subset, scaled back up).
+
+    On a clean curve it is about ``radius`` over the spacing along it (`curve_spacing`);
+    across a band of noise it counts every point of the band, where the spacing of
+    neighbours measures the points per area (the Intel map at 0.085: 35 points per radius,
+    against 11 radii over `curve_spacing`).
+    """
+    points = distinct(points)
+    rng = np.random.default_rng(seed)
+    share = min(1.0, subset / max(len(points), 1))
+    if share < 1.0:
+        points = points[rng.choice(len(points), subset, replace=False)]
+    if len(points) < 2:
+        return 0.0
+    probe = points if len(points) <= sample else points[rng.choice(len(points), sample, False)]
+    within = cKDTree(points).query_ball_point(probe, radius, return_length=True) - 1
+    return float(np.median(within)) / share / 2
+
+
 def _neighbour_distance(points: FloatArray, k: int, sample: int, seed: int,
                         quantile: float = 0.5) -> float:
     """The ``quantile`` (the median by default) of the distances from a sample of the distinct
