@@ -258,6 +258,20 @@ def test_shared_silhouettes_come_out_valid(shared_data, name, eps):
     _valid(pts, wavepoly.fit(pts, eps))
 
 
+@pytest.mark.parametrize("name, eps", [("ventilator.p2d", 43.0), ("crocodile-conf.p2d", 7.1)])
+def test_sparse_crust_sets_at_twice_their_spacing_are_whole_outlines(shared_data, name, eps):
+    """Clean sparse samples at twice their spacing (what ``wavepoly info`` suggests): the
+    radius widened to 3 spacings measured the outline's turns as noise, the curve ran
+    through the middle and left 169 of 194 and 85 of 129 points out. Read again exactly,
+    the chain of centroids over those wider neighbourhoods cut the turns by more than the
+    tolerance, which the fit covers, and that reading was refused for it."""
+    pts = wavepoly.as_planar(wavepoly.read_points(shared_data / "curves2d" / "hnn_crust" / name))
+    result = wavepoly.fit(pts, eps)
+    _valid(pts, result)
+    assert [c.closed for c in result.contours] == [True]
+    assert len(result.outliers) == 0
+
+
 @pytest.mark.parametrize("eps", [0.05, 0.1])
 def test_intel_map_comes_out_valid(shared_data, eps):
     pts = wavepoly.read_points(shared_data / "lidar2d" / "intel-corrected.log.gz")
