@@ -22,6 +22,9 @@ COARSE_SHARES = (0.03, 0.05, 0.07, 0.1)
 COARSE_SETS = ("Circle0.txt", "Cup0.txt", "Keyboard0.txt", "apple_2percent_noise.txt",
                "butterfly_2percent_noise.txt", "crab_2percent_noise.txt",
                "dolphin_2percent_noise.txt", "drill.txt", "thing.txt", "vase.txt")
+#: ... and the crust test sets (`hnn_crust`: clean sparse samples, a spacing a few hundredths
+#: of their size, curves that come within a spacing or two of each other).
+CRUST_SETS = ("crocodile-conf.p2d", "mushroom.p2d", "ventilator.p2d")
 #: ... and stars (`benchmarks.silhouettes.star`): spikes, spike widths, seeds, and samplings
 #: (spacing, noise) in ε = 0.3.
 STAR_SPIKES = (5, 7)
@@ -57,9 +60,13 @@ def coarse_sweep(truth) -> str:
         rows.append([f"stars, every ε / {1 / spacing:g}, noise ε / {1 / noise:g}",
                      f"{right}/{total} right ({shaped} by shape), {invalid} invalid"]
                     + [""] * 3)
-    folder = SHARED / "curves2d" / "noisy_sets"
-    for name in COARSE_SETS if folder.is_dir() else ():
-        pts = wavepoly.read_points(folder / name)[:, :2]
+    sets = [("noisy_sets", name) for name in COARSE_SETS] + [
+        ("hnn_crust", name) for name in CRUST_SETS]
+    for folder, name in sets:
+        path = SHARED / "curves2d" / folder / name
+        if not path.exists():
+            continue
+        pts = wavepoly.read_points(path)[:, :2]
         diag = float(np.hypot(*np.ptp(pts, axis=0)))
         cells = []
         for share in COARSE_SHARES:
@@ -78,8 +85,10 @@ def coarse_sweep(truth) -> str:
             f"{STAR_HAUSDORFF:g} ε of the star both ways, measured along the lines (a spike "
             "drawn as a triangle whose sides cut across the empty space between spikes covers "
             "every point and is still not the star). The shared silhouettes "
-            "(one outline each; Keyboard0 and vase have a second ring at finer tolerances) at "
-            "ε a share of their diagonal: closed/open contours and outliers.\n\n"
+            "(one outline each; Keyboard0 and vase have a second ring at finer tolerances) "
+            "and the crust test sets (sparse clean samples of curves that come within a "
+            "spacing or two of each other) at ε a share of their diagonal: closed/open "
+            "contours and outliers.\n\n"
             + table(["case"] + [f"ε = {100 * s:g} % of the diagonal" for s in COARSE_SHARES],
                     rows))
 
