@@ -428,6 +428,25 @@ def test_repeated_points_do_not_change_the_spacing():
     assert curve_spacing(np.vstack([pts, pts + jitter])) == pytest.approx(once, rel=1e-6)
 
 
+def test_points_per_radius_count_a_band_along_its_curve():
+    """On a clean circle it is the radius over the spacing; across a band of noise as wide as
+    the radius every point counts, where the spacing of neighbours sees points per area."""
+    from wavepoly.ordering.spacing import points_per_radius
+
+    t = np.linspace(0, 2 * np.pi, 2000, endpoint=False)
+    circle = np.column_stack([np.cos(t), np.sin(t)])
+    radius = 10 * 2 * np.pi / 2000
+    assert points_per_radius(circle, radius) == pytest.approx(10, abs=0.5)
+    rng = np.random.default_rng(0)
+    s = rng.uniform(0, 2 * np.pi, 20_000)
+    band = (1 + rng.normal(0, radius / 4, len(s)))[:, None] * np.column_stack(
+        [np.cos(s), np.sin(s)])
+    assert points_per_radius(band, radius) > 80  # 100 per radius along it, nearly all within
+    assert radius / curve_spacing(band) < 25
+    twice = np.vstack([circle, circle])  # a scanner's repeated returns count once
+    assert points_per_radius(twice, radius) == pytest.approx(10, abs=0.5)
+
+
 @pytest.mark.parametrize("seed", [4, 20, 23])
 def test_a_silhouette_given_three_times_over_comes_out_as_given_once(seed):
     """Silhouettes sampled exactly (1000 points, ε = 1/150 of their size): every point three
