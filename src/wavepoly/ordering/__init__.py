@@ -228,8 +228,10 @@ def _read(pts: FloatArray, radius: float, given: float, seed: int, min_points: i
     rng = np.random.default_rng(seed)
     nodes, atoms, scatter = noise_adaptive_nodes(pts, radius, sparse,
                                                  SPACINGS_PER_RADIUS * spacing)
-    clean = clean_scan(nodes.noise, radius,
-                       points_per_radius(pts, radius, seed) if spacing > 0 else np.inf, scatter)
+    # with no noise measured every scan is clean: the count is not needed
+    per_radius = (points_per_radius(pts, radius, seed) if spacing > 0 and nodes.noise > 0
+                  else np.inf)
+    clean = clean_scan(nodes.noise, radius, per_radius, scatter)
     middle = tolerance is not None and runs_through_the_middle(pts, tolerance, nodes.noise,
                                                                scatter)
     corner_gap = max(CORNER_GAP * radius, CORNER_NOISE * nodes.noise) if middle else None
@@ -273,7 +275,7 @@ def _read(pts: FloatArray, radius: float, given: float, seed: int, min_points: i
         strokes, outliers = stroke_contours(pts, outliers, contours, radius, given, reread)
         contours += strokes
     return Ordering(contours, outliers, radius, merged, tuple(notes), nodes.noise, scatter,
-                    middle, clean)
+                    middle, clean, per_radius)
 
 
 def _widening_note(nodes: Nodes, radius: float) -> str:

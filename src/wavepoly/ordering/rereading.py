@@ -22,7 +22,7 @@ from ..types import FloatArray, OrderedContour, Ordering
 from .contours import DENSE_CURVE, clean_scan
 from .neighbourhoods import cell_atoms, moments, principal_axes
 from .noise import HALO_SPREAD, noise_at
-from .spacing import SPACINGS_PER_RADIUS, points_per_radius, sparse_side_spacing
+from .spacing import SPACINGS_PER_RADIUS, sparse_side_spacing
 
 #: A sparse sample is read both ways, as a clean sparse curve and as noise. A noisy band read
 #: as a clean sample falls apart into fragments, each a zigzag across part of the band (fish.txt
@@ -349,7 +349,7 @@ def _exact_reading(ordering: Ordering, pts: FloatArray, tolerance: float | None,
     them all by zigzagging through its bands: 1236 teeth in 130 s, against 49 in 19 s
     through the middle."""
     if (tolerance is None or ordering.noise == 0
-            or points_per_radius(pts, ordering.radius) >= DENSE_CURVE):
+            or ordering.per_radius >= DENSE_CURVE):
         return None  # a dense band's neighbourhoods follow any turn: its spread is noise
     left_out = _left_out(ordering, pts, tolerance)
     shaped = (not ordering.through_the_middle and ordering.noise > SHAPE_SPREAD * ordering.scatter

@@ -68,6 +68,8 @@ class Ordering:
         contours run through the middle of it (`wavepoly.ordering.noise.runs_through_the_middle`).
     clean: whether the scan was read as a clean sampling (`wavepoly.ordering.contours.clean_scan`):
         members then reach two radii from their contour, and outlines with stems close.
+    per_radius: how many points the curves hold per radius of their length
+        (`wavepoly.ordering.spacing.points_per_radius`), where noise was measured; else inf.
     """
 
     contours: list[OrderedContour]
@@ -79,6 +81,7 @@ class Ordering:
     scatter: float = 0.0
     through_the_middle: bool = False
     clean: bool = False
+    per_radius: float = float("inf")
 
 
 @dataclass(frozen=True, repr=False)
