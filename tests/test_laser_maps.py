@@ -64,6 +64,22 @@ def test_a_made_up_map_below_twice_its_scatter_is_not_read_as_an_exact_sample():
     assert result.suggested_tolerance is not None
 
 
+def test_a_made_up_map_whose_band_is_wider_than_the_radius_is_not_read_as_an_exact_sample():
+    """Map 0 at 0.03, 1.4 x its scatter: the disc holds part of a band (11.5 points per
+    radius, under a dense curve's 12), and read exactly the walls broke into 678 open pieces
+    zigzagging through their bands, 5 per ring closed, kept because they left a twentieth
+    of the points out that the middle did (183 teeth in 180 s). Shapes packed side by side
+    read exactly come out as rings; this runs through the middle and a tolerance is
+    suggested."""
+    from benchmarks.laser import laser_map
+
+    pts, _ = laser_map(0)
+    result = wavepoly.fit(pts, 0.03)
+    assert result.validity.valid and teeth(result) <= 5
+    assert not any("read as an exact sample" in n for n in result.notes)
+    assert result.suggested_tolerance is not None
+
+
 def _along_and_across(result, box, axis):
     """Drawn length inside ``box`` within 30 degrees of ``axis`` (0: x, 1: y), and the rest."""
     along = across = 0.0

@@ -54,6 +54,12 @@ EXACT_LOSS = 0.01
 #: noisy band's middle is its closed ring (a uniform band 7 tolerances wide: 1 of 1; its
 #: clean reading leaves a tenth out and falls apart into 13 pieces).
 EXACT_GAIN = 10.0
+#: ... and where the exact reading comes out as outlines: at most this many open pieces per
+#: ring it closes (a page of text traced at 1.4 pixels: 0.4-0.9 over seven thinnings;
+#: letters packed side by side: 0.5-0.8). A noisy band read exactly breaks into open pieces
+#: zigzagging through it, several per ring it closes (the made-up laser maps at 0.02-0.03:
+#: 2.9-6.3; the Intel map at 0.0153, half its scatter: 3.3, 2459 contours in 55 s).
+OPEN_PER_RING = 1.5
 #: A noisy reading is also read again as a clean one where it left outlines open or points
 #: out and its spread over a neighbourhood is more than this many times the points' own
 #: scatter: the shapes' own corners and bends within the windows, not a bell of noise about
@@ -343,11 +349,12 @@ def _exact_reading(ordering: Ordering, pts: FloatArray, tolerance: float | None,
     does not fall apart into open pieces (`FRAGMENTS`), or, where most of the noisy
     reading's own contours are open, leaves out at most a tenth of what it did
     (`EXACT_GAIN`: letters packed side by side, whose noisy reading is open zigzags across
-    them), and in the second case leaves fewer outlines open or fewer points out; else
-    None. Never a dense band (`DENSE_CURVE` points per radius along it or more): the Freiburg
-    map at 0.06 (220 per radius) left 14 % out through the middle, and read exactly it held
-    them all by zigzagging through its bands: 1236 teeth in 130 s, against 49 in 19 s
-    through the middle."""
+    them) and comes out as their outlines, not as open pieces (`OPEN_PER_RING`: a noisy
+    band's pieces zigzagging through it), and in the second case leaves fewer outlines open
+    or fewer points out; else None. Never a dense band (`DENSE_CURVE` points per radius
+    along it or more): the Freiburg map at 0.06 (220 per radius) left 14 % out through the
+    middle, and read exactly it held them all by zigzagging through its bands: 1236 teeth
+    in 130 s, against 49 in 19 s through the middle."""
     if (tolerance is None or ordering.noise == 0
             or ordering.per_radius >= DENSE_CURVE):
         return None  # a dense band's neighbourhoods follow any turn: its spread is noise
@@ -360,7 +367,8 @@ def _exact_reading(ordering: Ordering, pts: FloatArray, tolerance: float | None,
     exact_out = _left_out(exact, pts, max(tolerance, exact.radius))
     # the noisy reading's middle fell apart too, and the exact one keeps far more points
     decisive = (exact_out <= left_out / EXACT_GAIN
-                and 2 * _open(ordering) > len(ordering.contours))
+                and 2 * _open(ordering) > len(ordering.contours)
+                and _open(exact) <= OPEN_PER_RING * _closed(exact))
     if not decisive and (exact_out > EXACT_LOSS * len(pts)
                          or _open(exact) >= FRAGMENTS * max(len(ordering.contours), 1)):
         return None
@@ -388,6 +396,11 @@ def _outer_rings(ordering: Ordering) -> int:
     inside = shapely.contains(polygons[:, None], shapely.points([r[0] for r in rings])[None, :])
     np.fill_diagonal(inside, False)
     return int((~inside.any(axis=0)).sum())
+
+
+def _closed(ordering: Ordering) -> int:
+    """How many of the contours of ``ordering`` are closed."""
+    return len(ordering.contours) - _open(ordering)
 
 
 def _open(ordering: Ordering) -> int:
