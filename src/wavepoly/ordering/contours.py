@@ -188,11 +188,15 @@ def _split_grown(before: list[OrderedContour], after: list[OrderedContour],
     reaches, a limb closed on itself) is left whole."""
     kept, now = {id(c) for c in before}, {id(c) for c in after}
     gone = [c for c in before if c.closed and id(c) not in now]
+    # a ring that joined an outline lends it its first member (-1: a ring with none)
+    firsts = np.array([g.members[0] if len(g.members) else -1 for g in gone], dtype=np.intp)
     out: list[OrderedContour] = []
     for c in after:
-        grown_by = [g for g in gone if np.isin(g.members[:1], c.members).all()]
-        if (id(c) in kept or not c.closed
-                or not all(thin_ring(g.points, radius) for g in grown_by)):
+        if id(c) in kept or not c.closed:
+            out.append(c)
+            continue
+        grown_by = np.flatnonzero((firsts < 0) | np.isin(firsts, c.members))
+        if not all(thin_ring(gone[k].points, radius) for k in grown_by):
             out.append(c)
             continue
         rings = split_at_waists(c.points, radius)
