@@ -82,12 +82,14 @@ def extend_tips(contours: list[OrderedContour], outliers: IntArray, pts: FloatAr
     contours = list(contours)
     lines = shapely.STRtree([curve_line(c.points, c.closed) for c in contours])
     turns = {k: turning(contours[k].points, True) for k in rings}
+    boxes = _Boxes(contours, rings)
     tree = cKDTree(pts) if groups else None
     taken: list[IntArray] = []
     dropped: set[int] = set()
     for group, stroke in groups:
         xy = pts[group]
-        for k, v in _tip_candidates(contours, rings, turns, xy, radius):
+        for k, v in _tip_candidates(contours, boxes.near(xy, TIP_REACH * radius), turns, xy,
+                                    radius):
             vertex = contours[k].points[v]
             nearest = xy[np.argmin(np.linalg.norm(xy - vertex, axis=1))]
             if not runs_along_points(tree, vertex[None], nearest[None], radius)[0]:
@@ -104,6 +106,7 @@ def extend_tips(contours: list[OrderedContour], outliers: IntArray, pts: FloatAr
                 continue  # the polygons of the two could meet
             contours[k] = OrderedContour(new_xy, True, np.union1d(contours[k].members, group))
             turns[k] = turning(new_xy, True)
+            boxes.update(k, new_xy)
             taken.append(group)
             dropped.add(stroke)
             break
@@ -111,6 +114,28 @@ def extend_tips(contours: list[OrderedContour], outliers: IntArray, pts: FloatAr
         return contours, outliers
     contours = [c for k, c in enumerate(contours) if k not in dropped]
     return contours, np.setdiff1d(outliers, np.concatenate(taken))
+
+
+class _Boxes:
+    """The boxes around the rings that may take a tip, so that each group looks only at the
+    rings whose box comes within its reach (a noisy band read exactly: 1927 groups against
+    some 600 rings, 8.6 s of 43 s in testing every ring's points)."""
+
+    def __init__(self, contours: list[OrderedContour], rings: list[int]) -> None:
+        self.rings = np.asarray(rings, dtype=np.intp)
+        self.at = {k: i for i, k in enumerate(rings)}
+        self.lo = np.array([contours[k].points.min(axis=0) for k in rings])
+        self.hi = np.array([contours[k].points.max(axis=0) for k in rings])
+
+    def near(self, group: FloatArray, reach: float) -> list[int]:
+        """The rings whose box comes within ``reach`` of the box around ``group``."""
+        lo, hi = group.min(axis=0) - reach, group.max(axis=0) + reach
+        overlap = ((self.hi >= lo) & (self.lo <= hi)).all(axis=1)
+        return self.rings[overlap].tolist()
+
+    def update(self, k: int, ring: FloatArray) -> None:
+        """Ring ``k`` now runs along ``ring``."""
+        self.lo[self.at[k]], self.hi[self.at[k]] = ring.min(axis=0), ring.max(axis=0)
 
 
 def _tip_candidates(contours: list[OrderedContour], rings: list[int],
