@@ -58,7 +58,7 @@ EXACT_GAIN = 10.0
 #: ring it closes (a page of text traced at 1.4 pixels: 0.4-0.9 over seven thinnings;
 #: letters packed side by side: 0.5-0.8). A noisy band read exactly breaks into open pieces
 #: zigzagging through it, several per ring it closes (the made-up laser maps at 0.02-0.03:
-#: 2.9-6.3; the Intel map at 0.0153, half its scatter: 3.3, 2459 contours in 55 s).
+#: 2.9-6.3; the Intel map at 0.0153, half its scatter: 3.3, 2459 contours).
 OPEN_PER_RING = 1.5
 #: A noisy reading is also read again as a clean one where it left outlines open or points
 #: out and its spread over a neighbourhood is more than this many times the points' own
