@@ -72,11 +72,12 @@ def _cases():
         if (noisy / name).exists():
             pts = wavepoly.as_planar(wavepoly.read_points(noisy / name))
             yield name.split("/")[-1], pts, eps, None
-    # 0.0135: what `wavepoly info` suggests for the Intel map (twice its spacing), at half
-    # its scatter
+    # 0.0135 and 0.00406: what `wavepoly info` suggests for the maps (twice their spacing),
+    # at half the Intel map's scatter and a ninth of Freiburg's
     for name, eps in (("intel-corrected.log.gz", 0.0135), ("intel-corrected.log.gz", 0.05),
                       ("intel-corrected.log.gz", 0.085),
-                      ("intel-corrected.log.gz", 0.1), ("freiburg-079-corrected.log.gz", 0.06),
+                      ("intel-corrected.log.gz", 0.1), ("freiburg-079-corrected.log.gz", 0.00406),
+                      ("freiburg-079-corrected.log.gz", 0.06),
                       ("freiburg-079-corrected.log.gz", 0.1)):
         path = SHARED / "lidar2d" / name
         if path.exists():

@@ -131,6 +131,16 @@ SPARSE_WIDENING = 2.0
 #: contour loses more: ventilator, 8 contours against 1 with 58 % outliers).
 NOISE_READ_LOSS = 0.25
 
+#: Where the points spread about their curves over more than this many radii, the radius is
+#: widened to the spread (`WIDE_BAND_RADIUS`): neighbourhoods capped at `MAX_REACH` radii
+#: cannot follow a band so wide, and nodes half a radius apart fill it from side to side
+#: (Freiburg at 0.0047, a spread of 5-9 radii: 900,000 nodes, 24 GB and no end). Only the
+#: windows widened past `wavepoly.ordering.noise.WIDER_WINDOWS` find more than 3.2 radii.
+WIDE_BAND = 3.0
+#: ... to this many times the spread: the widest neighbourhoods then reach `NOISE_REACH`
+#: spreads, as on any noisy scan.
+WIDE_BAND_RADIUS = NOISE_REACH / MAX_REACH
+
 #: On a dense noisy scan a node summarizes at least this many points: one point has no
 #: tangent (its regression line points anywhere), and strays on a laser map's floor, one per
 #: neighbourhood, were linked into lines across the rooms...
@@ -228,6 +238,13 @@ def _read(pts: FloatArray, radius: float, given: float, seed: int, min_points: i
     rng = np.random.default_rng(seed)
     nodes, atoms, scatter = noise_adaptive_nodes(pts, radius, sparse,
                                                  SPACINGS_PER_RADIUS * spacing)
+    if nodes.noise > WIDE_BAND * radius:
+        wider = WIDE_BAND_RADIUS * nodes.noise
+        notes.append(f"radius widened from {radius:.4g} to {wider:.4g}: the points spread "
+                     f"{nodes.noise:.3g} about the curves, more than {WIDE_BAND:g} x it")
+        radius = wider
+        nodes, atoms, scatter = noise_adaptive_nodes(pts, radius, sparse,
+                                                     SPACINGS_PER_RADIUS * spacing)
     # with no noise measured every scan is clean: the count is not needed
     per_radius = (points_per_radius(pts, radius, seed) if spacing > 0 and nodes.noise > 0
                   else np.inf)

@@ -98,6 +98,25 @@ def cell_atoms(pts: FloatArray, radius: float, min_per_cell: float = MIN_PER_CEL
     return Atoms(centre, counts, scatter, cell[first])
 
 
+def coarser_atoms(atoms: Atoms, factor: int) -> Atoms:
+    """The atoms merged into cells ``factor`` x as wide (`cell_atoms` at ``factor`` x its
+    radius, summed from the atoms instead of the points): the same moments over a wide
+    window from far fewer terms."""
+    if factor <= 1:
+        return atoms
+    cell = atoms.cell // factor
+    inverse, weight = cells(cell, atoms.weight)
+    w = atoms.weight
+    centre = np.column_stack([np.bincount(inverse, w * atoms.xy[:, k]) for k in range(2)])
+    centre /= weight[:, None]
+    d = atoms.xy - centre[inverse]
+    scatter = np.column_stack([np.bincount(inverse, atoms.scatter[:, k] + w * d[:, i] * d[:, j])
+                               for k, (i, j) in enumerate([(0, 0), (0, 1), (1, 1)])])
+    first = np.zeros(len(weight), dtype=np.intp)
+    first[inverse[::-1]] = np.arange(len(w))[::-1]  # any atom of each cell names its cell
+    return Atoms(centre, weight, scatter, cell[first])
+
+
 def moments(centres: FloatArray, atoms: Atoms, radius: float
              ) -> tuple[FloatArray, FloatArray]:
     """Centroid and covariance (xx, xy, yy) of the points within ``radius`` of each centre

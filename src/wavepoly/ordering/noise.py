@@ -19,6 +19,7 @@ from .neighbourhoods import (
     bend_free_spread,
     cell_atoms,
     cells,
+    coarser_atoms,
     perpendicular_kurtosis,
     perpendicular_offsets,
     regression_step,
@@ -45,6 +46,12 @@ FILLED_BAND = 0.25
 #: must fit its window as a bell (`_bell_fits`; fish.txt: 0.16 of it): a page of text traced
 #: at 1.4 pixels measured 0.31, the letters of a line packed side by side, each sharp.
 WIDER_WINDOWS = 2
+#: Where a wider window's spread does not fit it as a bell, the windows widen on, up to this
+#: many times in all: a laser map's walls, seen from many poses, spread more the wider the
+#: window (Freiburg at a radius of 0.006 filled windows of 3-12 radii, 0.35-0.29 of each, and
+#: fitted one of 24-48 radii as a bell of 0.2-0.18), while the letters' spread stays a third
+#: of the window, or is no bell once the window outgrows the lines of text.
+WIDEST_WINDOWS = 4
 #: The points' own scatter is measured over this many times the scatter found: a window that
 #: holds the bell of Gaussian noise out to 3 sigma across the curve and bends little along
 #: it (fish.txt measured 0.18, 0.33 and 0.54 over the windows of tolerances 0.12, 0.53 and
@@ -165,7 +172,8 @@ def noise_level(seeds: FloatArray, atoms: Atoms, radius: float, sample: int = NO
     unless the band fills the window (`FILLED_BAND`) at most seeds, when the scatter is
     measured again over wider windows (`WIDER_WINDOWS`), and what they find counts only
     where it fits its window as a bell (`_bell_fits`: letters packed side by side spread a
-    third of a window widened past them). Where the window holds two walls
+    third of a window widened past them); a bell too wide for its window is measured again
+    over wider ones still (`WIDEST_WINDOWS`). Where the window holds two walls
     side by side (`wavepoly.ordering.walls.two_walls_spread`), the noise is each wall's own
     scatter, not their spread about a line between them (a heavy tail, as noise has).
 
@@ -178,14 +186,15 @@ def noise_level(seeds: FloatArray, atoms: Atoms, radius: float, sample: int = NO
     """
     pick = np.random.default_rng(0).choice(len(seeds), min(sample, len(seeds)), replace=False)
     window = NOISE_WINDOW * radius
-    for widened in range(WIDER_WINDOWS + 1):
-        spread, noisy, filled, bend_free = _scatter_over(seeds[pick], atoms, window, radius)
+    for widened in range(WIDEST_WINDOWS + 1):
+        # past the usual widenings, coarser atoms keep a window of dozens of radii cheap
+        wide_atoms = coarser_atoms(atoms, 2 ** max(widened - WIDER_WINDOWS, 0))
+        spread, noisy, filled, bend_free = _scatter_over(seeds[pick], wide_atoms, window, radius)
         noise = float(np.median(np.where(noisy, spread, 0.0)))
         if widened and not _bell_fits(noise, window):
-            # clean shapes packed side by side (letters), not one wide bell
+            # clean shapes packed side by side (letters), or a bell wider than this window
             noise, noisy = 0.0, np.zeros_like(noisy)
-            break
-        if noise > 0 or not filled:
+        elif noise > 0 or not filled or widened >= WIDER_WINDOWS:
             break
         window *= 2
     bend_free = float(np.median(np.where(noisy, bend_free, 0.0)))

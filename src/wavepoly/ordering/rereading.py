@@ -156,7 +156,7 @@ def chosen_reading(pts: FloatArray, read: Callable[..., Ordering], seed: int, *,
     coarser where that reading went wrong (`_finer_reading`, `_exact_reading`,
     `_coarser_reading`)."""
     ordering = read(sparse=False)
-    exact = _exact_reading(ordering, pts, tolerance, read)
+    exact = _exact_reading(ordering, pts, tolerance, read, radius)
     finer = _finer_reading(ordering, pts, radius, spacing, read)
     if finer is not None and (exact is None or _mends_more(finer, exact)):
         return finer
@@ -338,7 +338,7 @@ def _lens(c: OrderedContour, radius: float) -> bool:
 
 
 def _exact_reading(ordering: Ordering, pts: FloatArray, tolerance: float | None,
-                   read: Callable[..., Ordering]) -> Ordering | None:
+                   read: Callable[..., Ordering], radius: float) -> Ordering | None:
     """The scan read as a clean sample (no noise measured), where read as noise it went wrong
     in one of two ways. Its curves ran through the middle and left more than `MIDDLE_LOSS`
     of the points out (`_left_out`): small shapes with sharp corners (two triangles 6
@@ -354,10 +354,13 @@ def _exact_reading(ordering: Ordering, pts: FloatArray, tolerance: float | None,
     or fewer points out; else None. Never a dense band (`DENSE_CURVE` points per radius
     along it or more): the Freiburg map at 0.06 (220 per radius) left 14 % out through the
     middle, and read exactly it held them all by zigzagging through its bands: 1236 teeth
-    in 130 s, against 49 in 19 s through the middle."""
-    if (tolerance is None or ordering.noise == 0
-            or ordering.per_radius >= DENSE_CURVE):
-        return None  # a dense band's neighbourhoods follow any turn: its spread is noise
+    in 130 s, against 49 in 19 s through the middle. Nor a band so much wider than the
+    ``radius`` it was read at that the reading widened it (`wavepoly.ordering.WIDE_BAND`): a
+    clean sample's corners and bends, seen as noise, spread about a radius (letters packed
+    side by side: 1.0-1.6), a laser map's walls at 0.0047 5-9, and read exactly they zigzag."""
+    if (tolerance is None or ordering.noise == 0 or ordering.per_radius >= DENSE_CURVE
+            or ordering.radius > radius):
+        return None  # a dense or wide band's neighbourhoods follow any turn: its spread is noise
     left_out = _left_out(ordering, pts, tolerance)
     shaped = (not ordering.through_the_middle and ordering.noise > SHAPE_SPREAD * ordering.scatter
               and (_open(ordering) > 0 or len(ordering.outliers) > 0))
