@@ -699,3 +699,19 @@ def test_sharpened_small_rings_keep_an_area(nodes):
     xy = np.array(nodes, dtype=float)
     sharp = sharpen_corners(xy, True, cKDTree(xy), 1.0)
     assert _twice_area(sharp) != 0 or _twice_area(xy) == 0
+
+
+def test_a_scan_with_more_neighbourhoods_than_fit_in_memory_is_read_at_a_wider_radius(
+        monkeypatch):
+    """The Freiburg map at 0.008 made 1.1 million neighbourhoods and ran out of 14 GB; the
+    radius widens until they are at most `MAX_NODES` (here lowered to 300 for a circle of
+    2000 points) and says so."""
+    import wavepoly.ordering as ordering
+
+    t = np.linspace(0, 2 * np.pi, 2000, endpoint=False)
+    circle = np.column_stack([np.cos(t), np.sin(t)])
+    assert len(ordering.order_points(circle, 0.01).contours) == 1
+    monkeypatch.setattr(ordering, "MAX_NODES", 300)
+    res = ordering.order_points(circle, 0.01)
+    assert res.radius > 0.01 and any("fit in memory" in n for n in res.notes)
+    assert [c.closed for c in res.contours] == [True] and len(res.outliers) == 0

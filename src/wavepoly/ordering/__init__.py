@@ -141,6 +141,14 @@ WIDE_BAND = 3.0
 #: spreads, as on any noisy scan.
 WIDE_BAND_RADIUS = NOISE_REACH / MAX_REACH
 
+#: A reading's neighbourhoods (one per occupied cell of half the radius) are at most this
+#: many; where there are more, the radius is widened until they fit: the Freiburg map (1.7
+#: million points) at 0.008 made 1.1 million, and the tests for two walls side by side alone
+#: asked for 74 million offsets (more than 14 GB); at 0.017, 575,000 took 6 GB and 90 s.
+MAX_NODES = 400_000
+#: ... in at most this many steps (each measures the noise again).
+MAX_NODE_STEPS = 3
+
 #: On a dense noisy scan a node summarizes at least this many points: one point has no
 #: tangent (its regression line points anywhere), and strays on a laser map's floor, one per
 #: neighbourhood, were linked into lines across the rooms...
@@ -242,6 +250,17 @@ def _read(pts: FloatArray, radius: float, given: float, seed: int, min_points: i
         wider = WIDE_BAND_RADIUS * nodes.noise
         notes.append(f"radius widened from {radius:.4g} to {wider:.4g}: the points spread "
                      f"{nodes.noise:.3g} about the curves, more than {WIDE_BAND:g} x it")
+        radius = wider
+        nodes, atoms, scatter = noise_adaptive_nodes(pts, radius, sparse,
+                                                     SPACINGS_PER_RADIUS * spacing)
+    for _ in range(MAX_NODE_STEPS):
+        if len(nodes.xy) <= MAX_NODES:
+            break
+        # a curve's cells fall as 1 / radius, a band's faster, a scatter of strays' slower
+        wider = radius * len(nodes.xy) / MAX_NODES
+        notes.append(f"radius widened from {radius:.4g} to {wider:.4g}: at {radius:.4g} the "
+                     f"scan has {len(nodes.xy)} neighbourhoods, more than {MAX_NODES} fit "
+                     "in memory")
         radius = wider
         nodes, atoms, scatter = noise_adaptive_nodes(pts, radius, sparse,
                                                      SPACINGS_PER_RADIUS * spacing)
