@@ -715,3 +715,35 @@ def test_a_scan_with_more_neighbourhoods_than_fit_in_memory_is_read_at_a_wider_r
     res = ordering.order_points(circle, 0.01)
     assert res.radius > 0.01 and any("fit in memory" in n for n in res.notes)
     assert [c.closed for c in res.contours] == [True] and len(res.outliers) == 0
+
+
+def test_each_chain_is_walked_on_its_own_rows_as_over_the_whole_graph():
+    """`chains_of` walks each component on its own rows of the link graph (over the whole
+    graph each walk cost the graph's size, and kept a buffer of it: 50,000 nodes in 15,000
+    chains took 24 s and 3.5 GB): the same depth-first order as over the whole graph, on
+    paths, rings and branched chains."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import depth_first_order
+
+    from wavepoly.ordering.marching import chains_of
+
+    rng = np.random.default_rng(1)
+    n, links, k = 3000, [], 0
+    perm = rng.permutation(n)
+    while k < n:
+        run = perm[k:k + int(rng.integers(1, 40))]
+        k += len(run)
+        links += list(zip(run[:-1], run[1:]))
+        if len(run) >= 3 and rng.random() < 0.4:
+            links.append((run[-1], run[0]))
+        if len(run) >= 4 and rng.random() < 0.2:
+            links.append((run[1], run[3]))
+    links = np.array(links, dtype=np.intp)
+    graph = coo_matrix((np.ones(len(links)), tuple(links.T)), shape=(n, n)).tocsr()
+    graph = graph + graph.T
+    chains = chains_of(links, n)
+    assert sum(len(c) for c in chains) == n
+    for chain in chains:
+        whole = depth_first_order(graph, chain.nodes[0], directed=False,
+                                  return_predecessors=False)
+        assert np.array_equal(chain.nodes, whole)

@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 import shapely
 from scipy.ndimage import maximum_filter1d
-from scipy.sparse import coo_matrix
+from scipy.sparse import coo_matrix, csr_matrix
 from scipy.sparse.csgraph import connected_components, depth_first_order
 from scipy.spatial import cKDTree
 
@@ -110,15 +110,30 @@ def chains_of(links: IntArray, n: int) -> list[Chain]:
     degree = np.diff(graph.indptr)
     order = np.argsort(comp, kind="stable")
     bounds = np.searchsorted(comp[order], np.arange(ncomp + 1))
+    local = np.zeros(n, dtype=np.intp)
     out = []
     for c in range(ncomp):
         members = order[bounds[c]:bounds[c + 1]]
         ends = members[degree[members] <= 1]
         closed = len(ends) == 0 and len(members) >= 3
         start = ends[0] if len(ends) else members[0]
-        seq = depth_first_order(graph, start, directed=False, return_predecessors=False)
-        out.append(Chain(seq, bool(closed)))
+        out.append(Chain(_walk(graph, members, start, local), bool(closed)))
     return out
+
+
+def _walk(graph: csr_matrix, members: IntArray, start: int, local: IntArray) -> IntArray:
+    """The depth-first order of one component (sorted ``members``) from ``start``, on its own
+    rows of ``graph``: over the whole graph each walk costs the size of the graph (Freiburg
+    at a small radius: 900,000 nodes in 100,000s of chains). ``local``: scratch of the
+    graph's size for the renumbering."""
+    if len(members) == 1:
+        return members.copy()
+    rows = graph[members]
+    local[members] = np.arange(len(members))
+    own = csr_matrix((rows.data, local[rows.indices], rows.indptr),
+                     shape=(len(members), len(members)))
+    seq = depth_first_order(own, int(local[start]), directed=False, return_predecessors=False)
+    return members[seq]
 
 
 def drop_side_chains(nodes: Nodes, chains: list[Chain], short: int = SIDE_CHAIN_NODES
