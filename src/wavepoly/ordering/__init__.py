@@ -98,7 +98,7 @@ from .marching import (
     thin,
     wide_nodes,
 )
-from .neighbourhoods import Nodes, nodes_with_points, perpendicular_kurtosis
+from .neighbourhoods import Atoms, Nodes, nodes_with_points, perpendicular_kurtosis
 from .noise import (
     MAX_REACH,
     NOISE_REACH,
@@ -244,26 +244,7 @@ def _read(pts: FloatArray, radius: float, given: float, seed: int, min_points: i
     is the second reading of a noisy scan's outliers (`strokes`), which is not read again."""
     notes = list(notes)
     rng = np.random.default_rng(seed)
-    nodes, atoms, scatter = noise_adaptive_nodes(pts, radius, sparse,
-                                                 SPACINGS_PER_RADIUS * spacing)
-    if nodes.noise > WIDE_BAND * radius:
-        wider = WIDE_BAND_RADIUS * nodes.noise
-        notes.append(f"radius widened from {radius:.4g} to {wider:.4g}: the points spread "
-                     f"{nodes.noise:.3g} about the curves, more than {WIDE_BAND:g} x it")
-        radius = wider
-        nodes, atoms, scatter = noise_adaptive_nodes(pts, radius, sparse,
-                                                     SPACINGS_PER_RADIUS * spacing)
-    for _ in range(MAX_NODE_STEPS):
-        if len(nodes.xy) <= MAX_NODES:
-            break
-        # a curve's cells fall as 1 / radius, a band's faster, a scatter of strays' slower
-        wider = radius * len(nodes.xy) / MAX_NODES
-        notes.append(f"radius widened from {radius:.4g} to {wider:.4g}: at {radius:.4g} the "
-                     f"scan has {len(nodes.xy)} neighbourhoods, more than {MAX_NODES} fit "
-                     "in memory")
-        radius = wider
-        nodes, atoms, scatter = noise_adaptive_nodes(pts, radius, sparse,
-                                                     SPACINGS_PER_RADIUS * spacing)
+    nodes, atoms, scatter, radius = _nodes_that_fit(pts, radius, sparse, spacing, notes)
     # with no noise measured every scan is clean: the count is not needed
     per_radius = (points_per_radius(pts, radius, seed) if spacing > 0 and nodes.noise > 0
                   else np.inf)
@@ -312,6 +293,32 @@ def _read(pts: FloatArray, radius: float, given: float, seed: int, min_points: i
         contours += strokes
     return Ordering(contours, outliers, radius, merged, tuple(notes), nodes.noise, scatter,
                     middle, clean, per_radius)
+
+
+def _nodes_that_fit(pts: FloatArray, radius: float, sparse: bool, spacing: float,
+                    notes: list[str]) -> tuple[Nodes, Atoms, float, float]:
+    """`noise_adaptive_nodes` at ``radius``, or at a radius widened (with a note added to
+    ``notes``) to a band many radii wide (`WIDE_BAND`), then until the nodes are at most
+    `MAX_NODES`; and the radius used."""
+    min_window = SPACINGS_PER_RADIUS * spacing
+    nodes, atoms, scatter = noise_adaptive_nodes(pts, radius, sparse, min_window)
+    if nodes.noise > WIDE_BAND * radius:
+        wider = WIDE_BAND_RADIUS * nodes.noise
+        notes.append(f"radius widened from {radius:.4g} to {wider:.4g}: the points spread "
+                     f"{nodes.noise:.3g} about the curves, more than {WIDE_BAND:g} x it")
+        radius = wider
+        nodes, atoms, scatter = noise_adaptive_nodes(pts, radius, sparse, min_window)
+    for _ in range(MAX_NODE_STEPS):
+        if len(nodes.xy) <= MAX_NODES:
+            break
+        # a curve's cells fall as 1 / radius, a band's faster, a scatter of strays' slower
+        wider = radius * len(nodes.xy) / MAX_NODES
+        notes.append(f"radius widened from {radius:.4g} to {wider:.4g}: at {radius:.4g} the "
+                     f"scan has {len(nodes.xy)} neighbourhoods, more than {MAX_NODES} fit "
+                     "in memory")
+        radius = wider
+        nodes, atoms, scatter = noise_adaptive_nodes(pts, radius, sparse, min_window)
+    return nodes, atoms, scatter, radius
 
 
 def _widening_note(nodes: Nodes, radius: float) -> str:

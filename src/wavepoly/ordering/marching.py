@@ -123,9 +123,9 @@ def chains_of(links: IntArray, n: int) -> list[Chain]:
 
 def _walk(graph: csr_matrix, members: IntArray, start: int, local: IntArray) -> IntArray:
     """The depth-first order of one component (sorted ``members``) from ``start``, on its own
-    rows of ``graph``: over the whole graph each walk costs the size of the graph (Freiburg
-    at a small radius: 900,000 nodes in 100,000s of chains). ``local``: scratch of the
-    graph's size for the renumbering."""
+    rows of ``graph``: over the whole graph each walk cost the graph's size and kept a buffer
+    of it (a noisy reading of the Freiburg map with 900,000 nodes died there at 15 GB).
+    ``local``: scratch of the graph's size for the renumbering."""
     if len(members) == 1:
         return members.copy()
     rows = graph[members]

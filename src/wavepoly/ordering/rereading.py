@@ -354,10 +354,11 @@ def _exact_reading(ordering: Ordering, pts: FloatArray, tolerance: float | None,
     or fewer points out; else None. Never a dense band (`DENSE_CURVE` points per radius
     along it or more): the Freiburg map at 0.06 (220 per radius) left 14 % out through the
     middle, and read exactly it held them all by zigzagging through its bands: 1236 teeth
-    in 130 s, against 49 in 19 s through the middle. Nor a band so much wider than the
-    ``radius`` it was read at that the reading widened it (`wavepoly.ordering.WIDE_BAND`): a
-    clean sample's corners and bends, seen as noise, spread about a radius (letters packed
-    side by side: 1.0-1.6), a laser map's walls at 0.0047 5-9, and read exactly they zigzag."""
+    in 130 s, against 49 in 19 s through the middle. Nor a reading whose radius was widened
+    beyond ``radius``: for a band many radii wide (`wavepoly.ordering.WIDE_BAND`; a clean
+    sample's corners and bends, seen as noise, spread about a radius, letters packed side
+    by side 1.0-1.6, and a laser map's walls at 0.0047 5-9, which read exactly zigzag), or
+    for more neighbourhoods than fit in memory (`wavepoly.ordering.MAX_NODES`)."""
     if (tolerance is None or ordering.noise == 0 or ordering.per_radius >= DENSE_CURVE
             or ordering.radius > radius):
         return None  # a dense or wide band's neighbourhoods follow any turn: its spread is noise
