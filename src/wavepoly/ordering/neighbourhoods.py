@@ -88,14 +88,8 @@ def cell_atoms(pts: FloatArray, radius: float, min_per_cell: float = MIN_PER_CEL
     inverse, counts = cells(cell)
     if len(counts) > len(pts) / min_per_cell:  # too few points per cell: little gain
         return Atoms(pts, np.ones(len(pts)), np.zeros((len(pts), 3)), cell)
-    centre = np.column_stack([np.bincount(inverse, pts[:, k]) for k in range(2)]) / counts[:, None]
-    d = pts - centre[inverse]
-    scatter = np.column_stack([np.bincount(inverse, d[:, 0] * d[:, 0]),
-                               np.bincount(inverse, d[:, 0] * d[:, 1]),
-                               np.bincount(inverse, d[:, 1] * d[:, 1])])
-    first = np.zeros(len(counts), dtype=np.intp)
-    first[inverse[::-1]] = np.arange(len(pts))[::-1]  # any point of each cell names its cell
-    return Atoms(centre, counts, scatter, cell[first])
+    return _merged(Atoms(pts, np.ones(len(pts)), np.zeros((len(pts), 3)), cell), cell,
+                   inverse, counts)
 
 
 def coarser_atoms(atoms: Atoms, factor: int) -> Atoms:
@@ -106,6 +100,12 @@ def coarser_atoms(atoms: Atoms, factor: int) -> Atoms:
         return atoms
     cell = atoms.cell // factor
     inverse, weight = cells(cell, atoms.weight)
+    return _merged(atoms, cell, inverse, weight)
+
+
+def _merged(atoms: Atoms, cell: IntArray, inverse: IntArray, weight: FloatArray) -> Atoms:
+    """The ``atoms`` merged by their ``cell`` (``inverse``: each one's index among the
+    occupied cells, ``weight``: each cell's total): weighted centroid, scatter about it."""
     w = atoms.weight
     centre = np.column_stack([np.bincount(inverse, w * atoms.xy[:, k]) for k in range(2)])
     centre /= weight[:, None]
@@ -113,7 +113,7 @@ def coarser_atoms(atoms: Atoms, factor: int) -> Atoms:
     scatter = np.column_stack([np.bincount(inverse, atoms.scatter[:, k] + w * d[:, i] * d[:, j])
                                for k, (i, j) in enumerate([(0, 0), (0, 1), (1, 1)])])
     first = np.zeros(len(weight), dtype=np.intp)
-    first[inverse[::-1]] = np.arange(len(w))[::-1]  # any atom of each cell names its cell
+    first[inverse[::-1]] = np.arange(len(w))[::-1]  # any member of each cell names its cell
     return Atoms(centre, weight, scatter, cell[first])
 
 

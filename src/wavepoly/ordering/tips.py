@@ -129,7 +129,7 @@ class _Boxes:
 
     def near(self, group: FloatArray, reach: float) -> list[int]:
         """The rings whose box comes within ``reach`` of the box around ``group``."""
-        lo, hi = group.min(axis=0) - reach, group.max(axis=0) + reach
+        lo, hi = _reach_box(group, reach)
         overlap = ((self.hi >= lo) & (self.lo <= hi)).all(axis=1)
         return self.rings[overlap].tolist()
 
@@ -146,7 +146,7 @@ def _tip_candidates(contours: list[OrderedContour], rings: list[int],
     tip spreads its turn over a few)."""
     found: list[tuple[float, int, int]] = []
     reach = TIP_REACH * radius
-    lo, hi = group.min(axis=0) - reach, group.max(axis=0) + reach
+    lo, hi = _reach_box(group, reach)
     tree = cKDTree(group)
     for k in rings:
         ring = contours[k].points
@@ -157,6 +157,11 @@ def _tip_candidates(contours: list[OrderedContour], rings: list[int],
         angle = turns[k][near]
         found += [(float(a), k, int(v)) for a, v in zip(angle, near) if a >= TIP_TURN]
     return [(k, v) for _, k, v in sorted(found, reverse=True)]
+
+
+def _reach_box(group: FloatArray, reach: float) -> tuple[FloatArray, FloatArray]:
+    """The corners of the box around ``group`` grown by ``reach``."""
+    return group.min(axis=0) - reach, group.max(axis=0) + reach
 
 
 def _outlier_groups(outliers: IntArray, pts: FloatArray, radius: float) -> list[IntArray]:
