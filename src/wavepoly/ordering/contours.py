@@ -21,6 +21,7 @@ from .folds import unfold_rings
 from .gaps import close_gaps
 from .marching import CORNER_TURN, SIDE_CHAIN_REACH, turning
 from .mouths import join_through_mouths
+from .necks import join_through_necks
 from .neighbourhoods import Nodes
 from .split_tips import rejoin_split_tips, thin_ring
 from .stems import close_outlines
@@ -170,6 +171,7 @@ def contours_of(pts: FloatArray, tree: cKDTree, nodes: Nodes, chains: list[Chain
         contours = _split_off_holes(_untangled(contours), pts, radius)
         contours = _split_grown(contours, join_through_mouths(
             rejoin_split_tips(contours, radius, pts), pts, radius), pts, radius)
+        contours = join_through_necks(contours, pts, radius)
         if any(not c.closed for c in contours):  # the outlines closed since take their tips
             contours, outliers = extend_tips(contours, outliers, pts, radius, outlier_gap)
     if clean:

@@ -1,0 +1,54 @@
+"""A lobe on a narrow neck is one outline, not two rings (`wavepoly.ordering.necks`); two
+shapes that only come close stay two."""
+
+from __future__ import annotations
+
+import numpy as np
+import shapely
+
+import wavepoly
+from wavepoly.geometry import polyline_distance
+
+EPS = 1.0
+BODY = 30.0  # the body's radius, in tolerances
+
+
+def _sampled(shape: shapely.Polygon, noise: float, seed: int) -> np.ndarray:
+    """Points every third of a tolerance at random along the outline, with Gaussian noise."""
+    ring = shapely.LinearRing(shape.exterior)
+    rng = np.random.default_rng(seed)
+    at = rng.uniform(0, ring.length, int(3 * ring.length / EPS))
+    pts = shapely.get_coordinates(shapely.line_interpolate_point(ring, at))
+    return pts + rng.normal(0.0, noise * EPS, pts.shape)
+
+
+def _lobe_on_a_neck(width: float, length: float, lobe: float) -> shapely.Polygon:
+    """A disk with a round lobe joined to it by a neck ``width`` wide and ``length`` long."""
+    body = shapely.Point(0, 0).buffer(BODY, 128)
+    head = shapely.Point(BODY + length + lobe, 0).buffer(lobe, 64)
+    neck = shapely.box(BODY - 1, -width / 2, BODY + length + 1, width / 2)
+    return shapely.union_all([body, head, neck])
+
+
+def test_a_lobe_on_a_neck_narrower_than_the_tolerance_is_one_outline():
+    # the march closes the lobe with a spike into the neck and runs the body's outline past
+    # its mouth with a bump: two rings, each valid, where the silhouette is one
+    shape = _lobe_on_a_neck(0.8, 3.0, 6.0)
+    pts = _sampled(shape, 0.0, 0)
+    res = wavepoly.fit(pts, EPS)
+    assert len(res.contours) == 1 and res.contours[0].closed
+    polygon = shapely.Polygon(res.contours[0].vertices)
+    assert polygon.is_valid and polygon.contains(shapely.Point(BODY + 9.0, 0.0))
+    assert len(res.outliers) == 0
+    assert polyline_distance(pts, res.contours[0].vertices, True).max() <= EPS * (1 + 1e-9)
+
+
+def test_two_disks_a_tolerance_apart_stay_two_rings():
+    # no wall runs between them: a link across the gap finds their walls only at its ends
+    for seed in range(3):
+        shapes = [shapely.Point(0, 0).buffer(BODY, 128),
+                  shapely.Point(BODY + 1.0 + 3.0, 0).buffer(3.0, 64)]
+        pts = np.vstack([_sampled(s, 0.125, seed) for s in shapes])
+        res = wavepoly.fit(pts, EPS)
+        assert len(res.contours) == 2 and all(c.closed for c in res.contours)
+        assert len(res.outliers) == 0
