@@ -19,6 +19,7 @@ from .coarse import coarse_sweep
 from .common import ROOT, SHARED, table
 from .holes import blob_hole_sweep, hole_sweep, keyhole_sweep, small_hole_sweep
 from .near_rings import near_rings_sweep
+from .necks import neck_sweep, photo_silhouette_sweep
 from .silhouettes import DRAWS_NEAR, MIN_RING_EXTENT, drawn_rings
 from .specks import specks_sweep
 from .unseen import unseen_sweep
@@ -188,7 +189,9 @@ def run() -> str:
             + "\n\n" + hole_sweep(truth)
             + "\n\n" + keyhole_sweep(truth)
             + "\n\n" + small_hole_sweep(truth) + "\n\n" + blob_hole_sweep(truth, _one_per_ring)
-            + "\n\n" + unseen_sweep(truth, _one_per_ring) + "\n\n" + coarse_sweep(truth)
+            + "\n\n" + neck_sweep(truth)
+            + "\n\n" + unseen_sweep(truth, _one_per_ring) + "\n\n" + photo_silhouette_sweep(truth)
+            + "\n\n" + coarse_sweep(truth)
             + "\n\n" + laser_sweep())
 
 

@@ -60,6 +60,17 @@ WALL_BAND = 0.35
 #: ... number at least this share of what two walls as long as the links hold, at the two
 #: rings' points per length.
 BRIDGE_SHARE = 0.5
+#: The gap between the rings is filled where the shortest line between their cores (each
+#: ring shrunk by this many radii, taking off the spikes and bulges the march drew into the
+#: neck)...
+CORE_DEPTH = 0.5
+#: ... has points beside it every this many radii along it...
+AXIS_STEP = 0.25
+#: ... within this many radii (the walls of a neck up to about two radii wide; the body's
+#: outline either side of the neck's mouth, the lobe's at its end)...
+NECK_HALF = 1.25
+#: ... in a strip this many radii wide across it.
+STRIP = 0.25
 #: The points about the move (within `NECK_BAND` radii of its cuts and links) lie, on
 #: average, at most this share as far from the joined ring as from the two rings.
 NECK_BAND = 1.0
@@ -124,6 +135,8 @@ def _best_move(contours: list[OrderedContour], a: int, b: int, points: FloatArra
     """The move between rings a and b whose bridge holds the neck's walls and that brings
     the points about it nearest, with its ring, or None."""
     one, two = contours[a].points, contours[b].points
+    if _enclose(one, two, radius) or not _necked(one, two, tree, radius):
+        return None
     length = polyline_length(one, True) + polyline_length(two, True)
     density = (len(contours[a].members) + len(contours[b].members)) / max(length, 1e-300)
     lines = None
@@ -221,6 +234,47 @@ def _bridged(links: tuple[tuple[FloatArray, FloatArray], ...],
     clear = np.min([polyline_distance(near, w, False) for w in walls], axis=0) > band
     needed = BRIDGE_SHARE * density * sum(float(np.linalg.norm(b - a)) for a, b in links)
     return bool(clear.sum() >= max(needed, 1.0))
+
+
+def _enclose(one: FloatArray, two: FloatArray, radius: float) -> bool:
+    """Do the two rings, each grown by a radius, enclose a region between them: the two
+    halves of an outline around a counter (a letter's bowl split off at both of the
+    hairlines that join it to the stem), which a join at one place would open."""
+    grown = shapely.union(shapely.buffer(shapely.Polygon(one), radius),
+                          shapely.buffer(shapely.Polygon(two), radius))
+    return any(len(part.interiors) for part in getattr(grown, "geoms", [grown]))
+
+
+def _necked(one: FloatArray, two: FloatArray, tree: cKDTree, radius: float) -> bool:
+    """Is the gap between the two rings filled: does the shortest line between their cores
+    (each ring shrunk by `CORE_DEPTH` radii, which takes off the spikes and bulges the march
+    drew into the neck) have points beside it all the way, within `NECK_HALF` radii in a
+    strip `STRIP` radii wide across it every `AXIS_STEP` radii? Across the gap between two
+    shapes of their own the nearest points lie ahead and behind (their walls facing each
+    other), or there are none (walls running on in line)."""
+    cores = [_core(xy, radius) for xy in (one, two)]
+    a, b = shapely.get_coordinates(shapely.shortest_line(*cores))
+    length = float(np.linalg.norm(b - a))
+    if length == 0:
+        return False
+    u = (b - a) / length
+    normal = np.array([-u[1], u[0]])
+    for t in np.linspace(0.0, length, max(int(np.ceil(length / (AXIS_STEP * radius))), 1) + 1):
+        at = a + t * u
+        near = tree.data[tree.query_ball_point(at, float(np.hypot(NECK_HALF, STRIP)) * radius)]
+        along, across = (near - at) @ u, (near - at) @ normal
+        beside = (np.abs(along) <= STRIP * radius) & (np.abs(across) <= NECK_HALF * radius)
+        if not np.any(beside):
+            return False
+    return True
+
+
+def _core(xy: FloatArray, radius: float) -> shapely.Geometry:
+    """The ring's polygon shrunk by `CORE_DEPTH` radii, or its centroid where that leaves
+    nothing."""
+    polygon = shapely.Polygon(xy)
+    core = shapely.buffer(polygon, -CORE_DEPTH * radius)
+    return polygon.centroid if core.is_empty else core
 
 
 def _gain(ring: FloatArray, one: FloatArray, two: FloatArray,
