@@ -76,6 +76,15 @@ def keyhole(width: float, turn: float = 0.0, eps: float = 1.0) -> list[np.ndarra
     return [np.asarray(shape.exterior.coords)[:-1]]
 
 
+def one_outline(result, truth) -> tuple[bool, bool, bool]:
+    """Whether a fit of one outline is right (one closed contour, valid, no outliers), split
+    (more than one contour) and invalid (``truth.independent_problems``)."""
+    bad = bool(truth.independent_problems(result))
+    right = ([c.closed for c in result.contours] == [True] and not bad
+             and len(result.outliers) == 0)
+    return right, len(result.contours) > 1, bad
+
+
 def keyhole_sweep(truth) -> str:
     """For each slit width and noise, fits of `SLIT_SEEDS` keyholes sampled every ε / 3:
     *one outline* (right: one closed contour, valid, no outliers), *split* (the outline and
@@ -87,12 +96,8 @@ def keyhole_sweep(truth) -> str:
             for seed in range(SLIT_SEEDS):
                 pts = sample_rings(keyhole(width, 37.0 * seed), spacing=1 / 3, noise=noise,
                                    seed=seed)
-                res = wavepoly.fit(pts, 1.0)
-                bad = bool(truth.independent_problems(res))
-                invalid += bad
-                split += len(res.contours) > 1
-                right += ([c.closed for c in res.contours] == [True] and not bad
-                          and len(res.outliers) == 0)
+                one, apart, bad = one_outline(wavepoly.fit(pts, 1.0), truth)
+                right, split, invalid = right + one, split + apart, invalid + bad
             rows.append([f"{width:g} ε", f"{noise:g} ε", f"{right}/{SLIT_SEEDS}", split,
                          invalid])
     return ("### A keyhole\n\nThe converse of a hole by the wall: a disk 60 ε across with a "

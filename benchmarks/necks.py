@@ -17,6 +17,7 @@ import wavepoly
 from wavepoly.samples import sample_rings
 
 from .common import table
+from .holes import one_outline
 from .silhouettes import sample, traced_mask
 
 #: The made-up sweep: the body's radius, the lobes' radii, the necks' widths and lengths (all
@@ -66,12 +67,8 @@ def neck_sweep(truth) -> str:
                     for seed in range(NECK_SEEDS):
                         rings = lobe_on_a_neck(width, length, lobe, 47.0 * seed)
                         pts = sample_rings(rings, spacing=1 / 3, noise=noise, seed=seed)
-                        res = wavepoly.fit(pts, 1.0)
-                        bad = bool(truth.independent_problems(res))
-                        invalid += bad
-                        split += len(res.contours) > 1
-                        right += ([c.closed for c in res.contours] == [True] and not bad
-                                  and len(res.outliers) == 0)
+                        one, apart, bad = one_outline(wavepoly.fit(pts, 1.0), truth)
+                        right, split, invalid = right + one, split + apart, invalid + bad
                 cells.append(f"{right}/{len(NECK_LOBES) * NECK_SEEDS}")
             rows.append([f"{width:g} ε", f"{length:g} ε", *cells, split, invalid,
                          time.perf_counter() - t0])
@@ -127,9 +124,8 @@ def photo_silhouette_sweep(truth) -> str:
             eps = float(np.hypot(*np.ptp(rings[0], axis=0))) / div
             length = shapely.LinearRing(rings[0]).length
             res = wavepoly.fit(sample(rings, int(3 * length / eps), noise * eps, 7), eps)
-            bad = bool(truth.independent_problems(res))
-            ok = [c.closed for c in res.contours] == [True] and not bad and not len(res.outliers)
-            right, split, invalid = right + ok, split + (len(res.contours) > 1), invalid + bad
+            ok, apart, bad = one_outline(res, truth)
+            right, split, invalid = right + ok, split + apart, invalid + bad
             if not ok:
                 missed.append(name)
         rows.append([f"diagonal / {div}", f"{noise:g} ε", f"{right}/{len(regions)}", split,

@@ -52,3 +52,14 @@ def test_two_disks_a_tolerance_apart_stay_two_rings():
         res = wavepoly.fit(pts, EPS)
         assert len(res.contours) == 2 and all(c.closed for c in res.contours)
         assert len(res.outliers) == 0
+
+
+def test_lobes_on_noisy_necks_are_one_outline():
+    # noise a quarter of the tolerance: the neck's walls a band each, 1.2 tolerances apart
+    shape = _lobe_on_a_neck(1.2, 3.0, 6.0)
+    whole = 0
+    for seed in range(6):
+        res = wavepoly.fit(_sampled(shape, 0.25, seed), EPS)
+        assert res.validity.valid and len(res.outliers) == 0
+        whole += [c.closed for c in res.contours] == [True]
+    assert whole >= 4

@@ -5,12 +5,18 @@ Where a lobe meets the body through a neck a few radii long and about a radius w
 march can close the lobe on itself across the neck and run the body's outline past its mouth,
 each covering the neck's walls with a bump or a spike: two rings where the truth is one
 outline pinched at the neck. Cutting a few edges of each ring where they face and linking the
-cut ends (a 2-opt move between the rings) gives the one outline. The move is kept where the
-*bridge* it adds (the region between its two links and the two cuts) holds the neck's walls:
-points between the rings, away from the walls the cuts ran along, as many as two walls as long
-as the links would hold. Two shapes of their own that come close have nothing between them,
-and stay apart; two that touch at a corner share one band of points, which a bridge with
-mouths a fraction of a radius wide does not tell from a neck (`MIN_MOUTH`).
+cut ends (a 2-opt move between the rings) gives the one outline.
+
+The two rings are joined only where the gap between them is filled: the shortest line between
+their cores (each ring shrunk by half a radius, which takes off the spike and the bulge) has
+points beside it all the way, the neck's walls. Across the gap between two shapes of their own
+the nearest points lie ahead and behind (their walls facing each other), or there are none
+(two triangles corner to corner, their walls running on in line). Nor are two rings joined
+that together enclose a region (grown by a radius): a letter's bowl split off at both of the
+hairlines that join it to the stem, around its counter, which one join would open. Of the
+moves, one is kept whose links cross the gap from mouths of a neck's width and whose *bridge*
+(the region between its links and the cuts' chords) holds the neck's walls: points clear of
+the rings' own walls, as many as two walls as long as the links would hold.
 
 This differs from `mouths`, which joins a ring capped by a sharp turn at its root to a bare
 straight pass of the body's outline: a neck's lobe may close round the neck with no cap (a
@@ -71,9 +77,12 @@ AXIS_STEP = 0.25
 NECK_HALF = 1.25
 #: ... in a strip this many radii wide across it.
 STRIP = 0.25
-#: The points about the move (within `NECK_BAND` radii of its cuts and links) lie, on
-#: average, at most this share as far from the joined ring as from the two rings.
+#: The points about the move: those within this many radii of its links and the cuts'
+#: chords...
 NECK_BAND = 1.0
+#: ... lie, on average, at most this many times as far from the joined ring as from the two
+#: rings: the spike and the bulge that the move takes out ran along the neck's walls, and
+#: the links may slant across them by a node's offset (the fit covers those points).
 NECK_GAIN = 1.6
 #: Joins made per call; each leaves one ring fewer.
 MAX_JOINS = 8
@@ -91,11 +100,13 @@ def join_through_necks(contours: list[OrderedContour], points: FloatArray, radiu
 
     Returns
     -------
-    The contours, joined rings replaced by the one ring they make: of the moves between
-    their `NECK_EDGES` edges nearest each other (cuts of up to `CUT_EDGES` edges) whose
-    bridge holds the neck's walls (`BRIDGE_SHARE`), the one that brings the points about
-    it nearest (`NECK_GAIN`) and is a valid polygon that meets no other contour and keeps
-    every member of the two as near as its own ring did (or within a radius).
+    The contours, joined rings replaced by the one ring they make: where a neck fills the
+    gap between two rings (`_necked`), of the moves between their `NECK_EDGES` edges
+    nearest each other (cuts of up to `CUT_EDGES` edges) whose links cross the gap
+    (`_across_the_gap`) and whose bridge holds the neck's walls (`BRIDGE_SHARE`), the one
+    that brings the points about it nearest (`NECK_GAIN`) and is a valid polygon that meets
+    no other contour and keeps every member of the two as near as its own ring did (or
+    within a radius).
     """
     out = list(contours)
     tree = None
@@ -132,8 +143,9 @@ def _near_pairs(contours: list[OrderedContour], radius: float) -> list[tuple[int
 
 def _best_move(contours: list[OrderedContour], a: int, b: int, points: FloatArray,
                tree: cKDTree, radius: float) -> tuple[int, int, FloatArray] | None:
-    """The move between rings a and b whose bridge holds the neck's walls and that brings
-    the points about it nearest, with its ring, or None."""
+    """Where a neck joins rings a and b (`_necked`) and they enclose nothing together
+    (`_enclose`), the move whose bridge holds the neck's walls and that brings the points
+    about it nearest, with its ring, or None."""
     one, two = contours[a].points, contours[b].points
     if _enclose(one, two, radius) or not _necked(one, two, tree, radius):
         return None
