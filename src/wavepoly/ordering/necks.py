@@ -60,6 +60,9 @@ MAX_MOUTH = 3.0
 #: from the body's mouth across to the lobe's, where a link along the walls of two rings
 #: side by side (closer than the radius) runs beside the edges it replaces.
 ACROSS_MOUTH = 45.0
+#: The two links run within this many degrees of parallel, along the neck's two walls: links
+#: that splay apart join two shapes at corners that face each other across a gap.
+NECK_PARALLEL = 45.0
 #: The bridge's points: those inside it or within this many radii of its links, and farther
 #: than this from the rest of the two rings and from the cuts (the walls they ran along)...
 WALL_BAND = 0.35
@@ -203,11 +206,14 @@ def _without(xy: FloatArray, i: int, k: int) -> FloatArray:
 def _across_the_gap(links: tuple[tuple[FloatArray, FloatArray], ...],
                     rest: tuple[FloatArray, FloatArray], radius: float) -> bool:
     """Do both links cross the gap as a neck's walls do: at least `MIN_LINK` radii long,
-    between mouths `MIN_MOUTH` to `MAX_MOUTH` wide, each at `ACROSS_MOUTH` or more to one
-    of them?"""
+    within `NECK_PARALLEL` of parallel, between mouths `MIN_MOUTH` to `MAX_MOUTH` wide, each
+    at `ACROSS_MOUTH` or more to one of them?"""
     mouths = [path[0] - path[-1] for path in rest]
     widths = [float(np.linalg.norm(m)) for m in mouths]
     if min(widths) < MIN_MOUTH * radius or max(widths) > MAX_MOUTH * radius:
+        return False
+    (a0, a1), (b0, b1) = links
+    if _sine(a1 - a0, b1 - b0) > np.sin(np.radians(NECK_PARALLEL)):
         return False
     least = np.sin(np.radians(ACROSS_MOUTH))
     for a, b in links:
