@@ -129,17 +129,18 @@ def join_through_necks(contours: list[OrderedContour], points: FloatArray, radiu
 
 
 def _near_pairs(contours: list[OrderedContour], radius: float) -> list[tuple[int, int]]:
-    """Pairs of rings (a < b) within `NECK_REACH` radii, neither inside the other, nearest
-    first."""
+    """Pairs of valid rings (a < b) within `NECK_REACH` radii, neither inside the other,
+    nearest first."""
     rings = [k for k, c in enumerate(contours) if c.closed and len(c.points) >= 4]
     if len(rings) < 2:
         return []
     polygons = [shapely.Polygon(contours[k].points) for k in rings]
+    valid = shapely.is_valid(polygons)  # the moves and the cores need valid rings
     near_a, near_b = shapely.STRtree(polygons).query(polygons, predicate="dwithin",
                                                      distance=NECK_REACH * radius)
     pairs = []
     for i, j in zip(near_a, near_b):
-        if i < j and not polygons[i].intersects(polygons[j]):
+        if i < j and valid[i] and valid[j] and not polygons[i].intersects(polygons[j]):
             pairs.append((float(polygons[i].distance(polygons[j])), rings[i], rings[j]))
     return [(a, b) for _, a, b in sorted(pairs)]
 
