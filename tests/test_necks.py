@@ -63,3 +63,18 @@ def test_lobes_on_noisy_necks_are_one_outline():
         assert res.validity.valid and len(res.outliers) == 0
         whole += [c.closed for c in res.contours] == [True]
     assert whole >= 4
+
+
+def test_a_densely_sampled_neck_is_read_thinned_and_still_joins():
+    # 100 points per tolerance along the outline: the neck's tests read every k-th point
+    from wavepoly.ordering.necks import NECK_DENSITY, _stride
+    from wavepoly.types import OrderedContour
+
+    shape = _lobe_on_a_neck(0.8, 3.0, 6.0)
+    pts = _sampled(shape, 0.0, 0)
+    dense = np.vstack([pts + np.random.default_rng(k).normal(0, 0.01, pts.shape)
+                       for k in range(33)])
+    res = wavepoly.fit(dense, EPS)
+    assert [c.closed for c in res.contours] == [True] and res.validity.valid
+    ring = OrderedContour(np.asarray(shape.exterior.coords)[:-1], True, np.arange(len(dense)))
+    assert _stride([ring], EPS) >= len(dense) / shape.length / NECK_DENSITY > 1
