@@ -176,8 +176,9 @@ def _best_move(contours: list[OrderedContour], a: int, b: int, points: FloatArra
                / max(length, 1e-300))
     lines = None
     best = None
+    cuts_two = _facing_cuts(two, one)
     for cut_one in _facing_cuts(one, two):
-        for cut_two in _facing_cuts(two, one):
+        for cut_two in cuts_two:
             for ring, links, rest in _moves(one, cut_one, two, cut_two):
                 if not _across_the_gap(links, rest, radius):
                     continue
