@@ -7,16 +7,17 @@ each covering the neck's walls with a bump or a spike: two rings where the truth
 outline pinched at the neck. Cutting a few edges of each ring where they face and linking the
 cut ends (a 2-opt move between the rings) gives the one outline.
 
-The two rings are joined only where the gap between them is filled: the shortest line between
-their cores (each ring shrunk by half a radius, which takes off the spike and the bulge) has
-points beside it all the way, the neck's walls. Across the gap between two shapes of their own
-the nearest points lie ahead and behind (their walls facing each other), or there are none
-(two triangles corner to corner, their walls running on in line). Nor are two rings joined
-that together enclose a region (grown by a radius): a letter's bowl split off at both of the
-hairlines that join it to the stem, around its counter, which one join would open. Of the
-moves, one is kept whose links cross the gap from mouths of a neck's width and whose *bridge*
-(the region between its links and the cuts' chords) holds the neck's walls: points clear of
-the rings' own walls, as many as two walls as long as the links would hold.
+The two rings are joined only where the gap between them is filled: a line across it between
+their cores (each ring shrunk by half a radius, which takes off the spike and the bulge; the
+ring itself where it is thinner than that by the neck) has points beside it all the way, the
+neck's walls. Across the gap between two shapes of their own the nearest points lie ahead and
+behind (their walls facing each other), or there are none (two triangles corner to corner,
+their walls running on in line). Nor are two rings joined that together enclose a region
+(each grown by half the reach): a letter's bowl split off at both of the hairlines that join
+it to the stem, around its counter, which one join would open. Of the moves, one is kept
+whose links cross the gap from mouths of a neck's width and whose *bridge* (the region
+between its links and the cuts' chords) holds the neck's walls: points clear of the rings'
+own walls, as many as two walls as long as the links would hold.
 
 This differs from `mouths`, which joins a ring capped by a sharp turn at its root to a bare
 straight pass of the body's outline: a neck's lobe may close round the neck with no cap (a
@@ -69,7 +70,7 @@ WALL_BAND = 0.35
 #: ... number at least this share of what two walls as long as the links hold, at the two
 #: rings' points per length.
 BRIDGE_SHARE = 0.5
-#: The gap between the rings is filled where the shortest line between their cores (each
+#: The gap between the rings is filled where a line across it between their cores (each
 #: ring shrunk by this many radii, taking off the spikes and bulges the march drew into the
 #: neck)...
 CORE_DEPTH = 0.5
@@ -80,6 +81,16 @@ AXIS_STEP = 0.25
 NECK_HALF = 1.25
 #: ... in a strip this many radii wide across it.
 STRIP = 0.25
+#: A core more than this many radii farther from the other ring than its own ring is, is
+#: not the shape the neck leaves but a thicker part beyond a thin one (the march's spike
+#: into a neck is up to a couple of radii long).
+CORE_REACH = 3.0
+#: Lines across the gap start every this many radii along each core's outline...
+LINE_STEP = 0.5
+#: ... where it lies at most this many radii farther from the other core than the cores'
+#: nearest points: a neck a few radii along the facing walls from where the cores come
+#: nearest.
+NECK_SPREAD = 2.0
 #: The points about the move: those within this many radii of its links and the cuts'
 #: chords...
 NECK_BAND = 1.0
@@ -259,14 +270,7 @@ def _bridged(links: tuple[tuple[FloatArray, FloatArray], ...],
     ``density`` points per length?"""
     (a0, a1), (b0, b1) = links
     band = WALL_BAND * radius
-    bridge = shapely.Polygon([a0, a1, b0, b1])
-    if not bridge.is_valid or bridge.area == 0:
-        return False
-    span = shapely.buffer(bridge, band)
-    x0, y0, x1, y1 = span.bounds
-    centre = np.array([(x0 + x1) / 2, (y0 + y1) / 2])
-    near = tree.data[tree.query_ball_point(centre, float(np.hypot(x1 - x0, y1 - y0)) / 2)]
-    near = near[shapely.contains_xy(span, near[:, 0], near[:, 1])]
+    near = _bridge_points(links, tree, band)
     if len(near) == 0:
         return False
     walls = [*rest, np.vstack([a1, b0]), np.vstack([b1, a0])]  # kept paths, cuts' chords
@@ -275,24 +279,69 @@ def _bridged(links: tuple[tuple[FloatArray, FloatArray], ...],
     return bool(clear.sum() >= max(needed, 1.0))
 
 
+def _bridge_points(links: tuple[tuple[FloatArray, FloatArray], ...], tree: cKDTree,
+                   band: float) -> FloatArray:
+    """The points inside the bridge between the two links (the region they bound with the
+    cuts' chords) or within ``band`` of it; none where the bridge is not a valid polygon."""
+    (a0, a1), (b0, b1) = links
+    bridge = shapely.Polygon([a0, a1, b0, b1])
+    if not bridge.is_valid or bridge.area == 0:
+        return np.empty((0, 2))
+    span = shapely.buffer(bridge, band)
+    x0, y0, x1, y1 = span.bounds
+    centre = np.array([(x0 + x1) / 2, (y0 + y1) / 2])
+    near = tree.data[tree.query_ball_point(centre, float(np.hypot(x1 - x0, y1 - y0)) / 2)]
+    return near[shapely.contains_xy(span, near[:, 0], near[:, 1])]
+
+
 def _enclose(one: FloatArray, two: FloatArray, radius: float) -> bool:
-    """Do the two rings, each grown by a radius, enclose a region between them: the two
-    halves of an outline around a counter (a letter's bowl split off at both of the
-    hairlines that join it to the stem), which a join at one place would open."""
-    grown = shapely.union(shapely.buffer(shapely.Polygon(one), radius),
-                          shapely.buffer(shapely.Polygon(two), radius))
-    return any(len(part.interiors) for part in getattr(grown, "geoms", [grown]))
+    """Do the two rings, each grown by half of `NECK_REACH` radii, enclose a region between
+    them: the two halves of an outline around a counter (a letter's bowl split off at both
+    of the hairlines that join it to the stem, an annulus's two halves), which a join at one
+    place would open."""
+    alone = [shapely.buffer(shapely.Polygon(xy), NECK_REACH / 2 * radius) for xy in (one, two)]
+    grown = shapely.union(*alone)
+    holes = [shapely.Polygon(hole).point_on_surface()
+             for part in getattr(grown, "geoms", [grown]) for hole in part.interiors]
+    # a hole one ring's grown polygon has alone (an inlet the reach wide that the growth
+    # closes over) is not enclosed between the two
+    return any(not any(shapely.within(hole, shapely.Polygon(inner))
+                       for g in alone for inner in g.interiors)
+               for hole in holes)
 
 
 def _necked(one: FloatArray, two: FloatArray, tree: cKDTree, radius: float) -> bool:
-    """Is the gap between the two rings filled: does the shortest line between their cores
+    """Is the gap between the two rings filled: does a line across it between their cores
     (each ring shrunk by `CORE_DEPTH` radii, which takes off the spikes and bulges the march
-    drew into the neck) have points beside it all the way, within `NECK_HALF` radii in a
-    strip `STRIP` radii wide across it every `AXIS_STEP` radii? Across the gap between two
-    shapes of their own the nearest points lie ahead and behind (their walls facing each
-    other), or there are none (walls running on in line)."""
-    cores = [_core(xy, radius) for xy in (one, two)]
-    a, b = shapely.get_coordinates(shapely.shortest_line(*cores))
+    drew into the neck; `_gap_lines`) have points beside it all the way, within `NECK_HALF`
+    radii in a strip `STRIP` radii wide across it every `AXIS_STEP` radii? Across the gap
+    between two shapes of their own the nearest points lie ahead and behind (their walls
+    facing each other), or there are none (walls running on in line)."""
+    cores = [_core(xy, other, radius) for xy, other in ((one, two), (two, one))]
+    return any(_filled(a, b, tree, radius) for a, b in _gap_lines(*cores, radius))
+
+
+def _gap_lines(one: shapely.Geometry, two: shapely.Geometry, radius: float
+               ) -> list[tuple[FloatArray, FloatArray]]:
+    """Lines across the gap between two cores: the shortest, and from each core's outline
+    every `LINE_STEP` radii where it lies within `NECK_SPREAD` radii as near the other, the
+    shortest line from there to the other (the neck need not be where the cores come
+    nearest: a bulge of the body's core beside it)."""
+    nearest = shapely.get_coordinates(shapely.shortest_line(one, two))
+    lines = [(nearest[0], nearest[1])]
+    reach = float(np.linalg.norm(nearest[1] - nearest[0])) + NECK_SPREAD * radius
+    for core, other in ((one, two), (two, one)):
+        outline = shapely.boundary(core) if core.geom_type != "Point" else core
+        along = np.arange(0.0, shapely.length(outline), LINE_STEP * radius)
+        starts = shapely.line_interpolate_point(outline, along) if len(along) else [core]
+        starts = [s for s in starts if shapely.distance(s, other) <= reach]
+        for ends in shapely.get_coordinates(shapely.shortest_line(starts, other)).reshape(-1, 2, 2):
+            lines.append((ends[0], ends[1]) if core is one else (ends[1], ends[0]))
+    return lines
+
+
+def _filled(a: FloatArray, b: FloatArray, tree: cKDTree, radius: float) -> bool:
+    """Does the line from a to b have points beside it all the way (`_necked`)?"""
     length = float(np.linalg.norm(b - a))
     if length == 0:
         return False
@@ -308,12 +357,16 @@ def _necked(one: FloatArray, two: FloatArray, tree: cKDTree, radius: float) -> b
     return True
 
 
-def _core(xy: FloatArray, radius: float) -> shapely.Geometry:
+def _core(xy: FloatArray, other: FloatArray, radius: float) -> shapely.Geometry:
     """The ring's polygon shrunk by `CORE_DEPTH` radii, or its centroid where that leaves
-    nothing."""
-    polygon = shapely.Polygon(xy)
+    nothing, or the polygon itself where the core lies more than `CORE_REACH` radii farther
+    from the ``other`` ring than the polygon does (a body thin by the neck)."""
+    polygon, facing = shapely.Polygon(xy), shapely.LinearRing(other)
     core = shapely.buffer(polygon, -CORE_DEPTH * radius)
-    return polygon.centroid if core.is_empty else core
+    core = polygon.centroid if core.is_empty else core
+    if shapely.distance(core, facing) > shapely.distance(polygon, facing) + CORE_REACH * radius:
+        return polygon
+    return core
 
 
 def _gain(ring: FloatArray, one: FloatArray, two: FloatArray,
