@@ -78,3 +78,44 @@ def test_a_densely_sampled_neck_is_read_thinned_and_still_joins():
     assert [c.closed for c in res.contours] == [True] and res.validity.valid
     ring = OrderedContour(np.asarray(shape.exterior.coords)[:-1], True, np.arange(len(dense)))
     assert _stride([ring], EPS) >= len(dense) / shape.length / NECK_DENSITY > 1
+
+
+def _walls(*rings: np.ndarray, step: float = 0.2) -> np.ndarray:
+    """Points every ``step`` along each closed ring."""
+    out = []
+    for ring in rings:
+        line = shapely.LinearRing(ring)
+        at = np.arange(0.0, line.length, step)
+        out.append(shapely.get_coordinates(shapely.line_interpolate_point(line, at)))
+    return np.vstack(out)
+
+
+def test_a_neck_away_from_where_the_cores_come_nearest_is_found():
+    # the rings come nearest at the top, where nothing lies between them; the neck's two
+    # walls run between them at the bottom, 2.5 radii long
+    from scipy.spatial import cKDTree
+
+    from wavepoly.ordering.necks import _necked
+
+    body = np.array([[0, 0], [10, 0], [10, 10], [0, 10]], float)
+    lobe = np.array([[12.5, 0], [21, 0], [21, 10], [11, 10]], float)
+    neck = np.vstack([np.column_stack([np.arange(10.0, 12.6, 0.2), np.full(13, y)])
+                      for y in (1.0, 2.0)])
+    bare = _walls(body, lobe)
+    assert not _necked(body, lobe, cKDTree(bare), 1.0)
+    assert _necked(body, lobe, cKDTree(np.vstack([bare, neck])), 1.0)
+
+
+def test_an_inlet_the_body_closes_over_alone_is_no_enclosed_counter():
+    # growing the body closes the mouth of its own bottle-shaped inlet: that hole is not
+    # between the two rings; an annulus's two halves, grown, do enclose its middle
+    from wavepoly.ordering.necks import _enclose
+
+    body = np.array([[0, 0], [20, 0], [20, 14], [10.5, 14], [10.5, 10], [13, 10], [13, 3],
+                     [7, 3], [7, 10], [9.5, 10], [9.5, 14], [0, 14]], float)
+    lobe = np.array([[21.5, 3], [25, 3], [25, 7], [21.5, 7]], float)
+    assert not _enclose(body, lobe, 1.0)
+    t = np.linspace(0, np.pi, 40)
+    upper = np.vstack([np.column_stack([np.cos(t), np.sin(t)]) * 10,
+                       np.column_stack([np.cos(t[::-1]), np.sin(t[::-1])]) * 9])
+    assert _enclose(upper + [0, 0.5], upper * [1, -1] - [0, 0.5], 1.0)
