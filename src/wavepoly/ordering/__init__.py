@@ -47,7 +47,8 @@ Python loop runs over points:
    or a pocket the march closed on itself while the body's outline ran past), joins that ring
    as one outline (`mouths`); so do two rings side by side that the walls of a narrow neck
    join, where the march closed a lobe with a spike into the neck and ran the body's
-   outline past its mouth (`necks`). Two thin rings, each walked out along one of two walls
+   outline past its mouth (`necks`; a short neck's links routed through its walls,
+   `neck_routes`). Two thin rings, each walked out along one of two walls
    side by side and back along the other and turning back where the other does (the march
    swapped walls at two places), are cut where they face each other and joined along the walls
    (`folds`). A ring's detour of a few nodes onto a neighbouring ring's wall, beside which

@@ -17,7 +17,9 @@ their walls running on in line). Nor are two rings joined that together enclose 
 it to the stem, around its counter, which one join would open. Of the moves, one is kept
 whose links cross the gap from mouths of a neck's width and whose *bridge* (the region
 between its links and the cuts' chords) holds the neck's walls: points clear of the rings'
-own walls, as many as two walls as long as the links would hold.
+own walls, as many as two walls as long as the links would hold. A neck shorter than the
+rings' nodes are apart has its walls between the nodes: each move is also tried with its
+links routed through the points beside them (`neck_routes`).
 
 This differs from `mouths`, which joins a ring capped by a sharp turn at its root to a bare
 straight pass of the body's outline: a neck's lobe may close round the neck with no cap (a
@@ -38,6 +40,7 @@ from scipy.spatial import cKDTree
 from ..geometry import curve_line, polyline_distance, polyline_length
 from ..types import FloatArray, OrderedContour
 from .gaps import keeps_members, meets_others
+from .neck_routes import Links, MidGap, bridge_points, continuous, routed
 
 #: Two rings this many radii apart or nearer may be a lobe and the body on a neck: the march
 #: closes a lobe across a neck up to a couple of radii long.
@@ -177,34 +180,48 @@ def _best_move(contours: list[OrderedContour], a: int, b: int, points: FloatArra
                tree: cKDTree, radius: float, stride: int = 1
                ) -> tuple[int, int, FloatArray] | None:
     """Where a neck joins rings a and b (`_necked`) and they enclose nothing together
-    (`_enclose`), the move whose bridge holds the neck's walls and that brings the points
-    about it nearest, with its ring, or None."""
+    (`_enclose`), the move that brings the points about it nearest and whose walls are borne
+    out, with its ring, or None. Each move is tried with straight links crossing the gap
+    (`_across_the_gap`), whose bridge holds the neck's walls (`_bridged`), and with links
+    routed through the points beside them (`neck_routes.routed`), where points lie in the
+    middle of the gap (`neck_routes.MidGap`)."""
     one, two = contours[a].points, contours[b].points
     if _enclose(one, two, radius) or not _necked(one, two, tree, radius):
         return None
     length = polyline_length(one, True) + polyline_length(two, True)
     density = ((len(contours[a].members) + len(contours[b].members)) / stride
                / max(length, 1e-300))
+    band = WALL_BAND * radius
+    middle = MidGap((contours[a], contours[b]), points, radius, stride)
+    both = (shapely.LinearRing(one), shapely.LinearRing(two))
     lines = None
     best = None
     cuts_two = _facing_cuts(two, one)
     for cut_one in _facing_cuts(one, two):
         for cut_two in cuts_two:
             for ring, links, rest in _moves(one, cut_one, two, cut_two):
-                if not _across_the_gap(links, rest, radius):
+                if not _mouths_fit(rest, radius):
                     continue
-                gain = _gain(ring, one, two, links, rest, tree, radius)
-                if gain > NECK_GAIN or (best is not None and gain >= best[0]):
-                    continue
-                if not (_bridged(links, rest, tree, radius, density)
-                        and shapely.Polygon(ring).is_valid):
-                    continue
-                if lines is None:
-                    lines = shapely.STRtree([curve_line(c.points, c.closed) for c in contours])
-                if (not meets_others(ring, (a, b), lines)
-                        and all(keeps_members(ring, contours[k], points, radius)
-                                for k in (a, b))):
-                    best = (gain, ring)
+                tries = [(ring, True)] if _across_the_gap(links, rest, radius) else []
+                joined, routes = routed(links, rest, tree, radius, band)
+                if continuous(routes, tree, radius):
+                    tries.append((joined, False))
+                about = _about(links, both, tree, radius)
+                for joined, straight in tries:
+                    gain = _gain(joined, about, radius)
+                    if gain > NECK_GAIN or (best is not None and gain >= best[0]):
+                        continue
+                    if not ((_bridged(links, rest, tree, radius, density) if straight
+                             else middle.borne_out(links, rest, tree, band, density))
+                            and shapely.Polygon(joined).is_valid):
+                        continue
+                    if lines is None:
+                        lines = shapely.STRtree([curve_line(c.points, c.closed)
+                                                 for c in contours])
+                    if (not meets_others(joined, (a, b), lines)
+                            and all(keeps_members(joined, contours[k], points, radius)
+                                    for k in (a, b))):
+                        best = (gain, joined)
     return None if best is None else (min(a, b), max(a, b), best[1])
 
 
@@ -217,8 +234,7 @@ def _facing_cuts(xy: FloatArray, other: FloatArray) -> list[tuple[int, int]]:
     return [(int(i), k) for i in first for k in range(1, min(CUT_EDGES, len(xy) - 3) + 1)]
 
 
-Move = tuple[FloatArray, tuple[tuple[FloatArray, FloatArray], ...],
-             tuple[FloatArray, FloatArray]]
+Move = tuple[FloatArray, Links, tuple[FloatArray, FloatArray]]
 
 
 def _moves(one: FloatArray, cut_one: tuple[int, int], two: FloatArray,
@@ -235,15 +251,17 @@ def _without(xy: FloatArray, i: int, k: int) -> FloatArray:
     return np.roll(xy, -(i + k), axis=0)[:len(xy) - k + 1]
 
 
-def _across_the_gap(links: tuple[tuple[FloatArray, FloatArray], ...],
-                    rest: tuple[FloatArray, FloatArray], radius: float) -> bool:
-    """Do both links cross the gap as a neck's walls do: at least `MIN_LINK` radii long,
-    within `NECK_PARALLEL` of parallel, between mouths `MIN_MOUTH` to `MAX_MOUTH` wide, each
-    at `ACROSS_MOUTH` or more to one of them?"""
+def _mouths_fit(rest: tuple[FloatArray, FloatArray], radius: float) -> bool:
+    """Are the cuts' chords (the neck's two mouths) `MIN_MOUTH` to `MAX_MOUTH` radii wide?"""
+    widths = [float(np.linalg.norm(path[0] - path[-1])) for path in rest]
+    return min(widths) >= MIN_MOUTH * radius and max(widths) <= MAX_MOUTH * radius
+
+
+def _across_the_gap(links: Links, rest: tuple[FloatArray, FloatArray], radius: float) -> bool:
+    """Do both straight links cross the gap as a neck's walls do: at least `MIN_LINK` radii
+    long, within `NECK_PARALLEL` of parallel, each at `ACROSS_MOUTH` or more to one of the
+    mouths?"""
     mouths = [path[0] - path[-1] for path in rest]
-    widths = [float(np.linalg.norm(m)) for m in mouths]
-    if min(widths) < MIN_MOUTH * radius or max(widths) > MAX_MOUTH * radius:
-        return False
     (a0, a1), (b0, b1) = links
     if _sine(a1 - a0, b1 - b0) > np.sin(np.radians(NECK_PARALLEL)):
         return False
@@ -261,7 +279,7 @@ def _sine(u: FloatArray, v: FloatArray) -> float:
     return abs(float(u[0] * v[1] - u[1] * v[0])) / norms if norms > 0 else 0.0
 
 
-def _bridged(links: tuple[tuple[FloatArray, FloatArray], ...],
+def _bridged(links: Links,
              rest: tuple[FloatArray, FloatArray], tree: cKDTree, radius: float,
              density: float) -> bool:
     """Does the bridge between the links hold the neck's walls: of the points inside it or
@@ -270,28 +288,13 @@ def _bridged(links: tuple[tuple[FloatArray, FloatArray], ...],
     ``density`` points per length?"""
     (a0, a1), (b0, b1) = links
     band = WALL_BAND * radius
-    near = _bridge_points(links, tree, band)
+    near = bridge_points(links, tree, band)
     if len(near) == 0:
         return False
     walls = [*rest, np.vstack([a1, b0]), np.vstack([b1, a0])]  # kept paths, cuts' chords
     clear = np.min([polyline_distance(near, w, False) for w in walls], axis=0) > band
     needed = BRIDGE_SHARE * density * sum(float(np.linalg.norm(b - a)) for a, b in links)
     return bool(clear.sum() >= max(needed, 1.0))
-
-
-def _bridge_points(links: tuple[tuple[FloatArray, FloatArray], ...], tree: cKDTree,
-                   band: float) -> FloatArray:
-    """The points inside the bridge between the two links (the region they bound with the
-    cuts' chords) or within ``band`` of it; none where the bridge is not a valid polygon."""
-    (a0, a1), (b0, b1) = links
-    bridge = shapely.Polygon([a0, a1, b0, b1])
-    if not bridge.is_valid or bridge.area == 0:
-        return np.empty((0, 2))
-    span = shapely.buffer(bridge, band)
-    x0, y0, x1, y1 = span.bounds
-    centre = np.array([(x0 + x1) / 2, (y0 + y1) / 2])
-    near = tree.data[tree.query_ball_point(centre, float(np.hypot(x1 - x0, y1 - y0)) / 2)]
-    return near[shapely.contains_xy(span, near[:, 0], near[:, 1])]
 
 
 def _enclose(one: FloatArray, two: FloatArray, radius: float) -> bool:
@@ -369,21 +372,29 @@ def _core(xy: FloatArray, other: FloatArray, radius: float) -> shapely.Geometry:
     return core
 
 
-def _gain(ring: FloatArray, one: FloatArray, two: FloatArray,
-          links: tuple[tuple[FloatArray, FloatArray], ...], rest: tuple[FloatArray, FloatArray],
-          tree: cKDTree, radius: float) -> float:
-    """Mean distance of the points about the move (within `NECK_BAND` radii of its links or
-    the cuts' chords) to the joined ring, over their mean distance to the two rings."""
+def _about(links: Links, rings: tuple[shapely.Geometry, shapely.Geometry], tree: cKDTree,
+           radius: float) -> tuple[FloatArray, float]:
+    """The points about the move (within `NECK_BAND` radii of its links or the cuts'
+    chords) and their mean distance to the two ``rings``."""
     (a0, a1), (b0, b1) = links
     segments = [np.vstack(s) for s in ((a0, a1), (b0, b1), (a1, b0), (b1, a0))]
     reach = NECK_BAND * radius
     near = np.unique(np.concatenate([
         tree.query_ball_point(s.mean(axis=0), np.linalg.norm(s[1] - s[0]) / 2 + reach)
         for s in segments]).astype(np.intp))
-    pts = tree.data[near]
-    pts = pts[np.min([polyline_distance(pts, s, False) for s in segments], axis=0) <= reach]
+    at = shapely.points(tree.data[near])
+    close = np.min([shapely.distance(at, shapely.linestrings(s)) for s in segments], axis=0)
+    pts, at = tree.data[near[close <= reach]], at[close <= reach]
+    if len(pts) == 0:
+        return pts, 0.0
+    return pts, float(np.mean(np.minimum(*(shapely.distance(at, r) for r in rings))))
+
+
+def _gain(ring: FloatArray, about: tuple[FloatArray, float], radius: float) -> float:
+    """Mean distance of the points ``about`` the move to the joined ring, over their mean
+    distance to the two rings (`_about`)."""
+    pts, before = about
     if len(pts) == 0:
         return np.inf
-    before = np.minimum(polyline_distance(pts, one, True), polyline_distance(pts, two, True))
-    after = polyline_distance(pts, ring, True)
-    return float(after.mean() / max(before.mean(), 1e-12 * radius))
+    after = shapely.distance(shapely.points(pts), shapely.LinearRing(ring))
+    return float(np.mean(after) / max(before, 1e-12 * radius))
