@@ -129,12 +129,10 @@ class MidGap:
         scatter = float(np.median(spread)) / MEDIAN_TO_SIGMA if len(spread) else 0.0
         self.band = max(MID_BAND * radius, MID_SIGMAS * scatter)
 
-    def borne_out(self, links: Links, rest: tuple[FloatArray, FloatArray], tree: cKDTree,
-                  band: float, density: float) -> bool:
+    def borne_out(self, links: Links, tree: cKDTree, band: float, density: float) -> bool:
         """Do the points in the bridge (or within ``band`` of it) that lie in the middle of
-        the gap, and farther than ``band`` from the kept paths ``rest`` (a thin shape's
-        opened outline is gone), number at least `MID_SHARE` of what two walls as long as
-        the links hold at ``density`` points per length?"""
+        the gap number at least `MID_SHARE` of what two walls as long as the links hold at
+        ``density`` points per length?"""
         near = bridge_points(links, tree, band)
         if len(near) == 0:
             return False

@@ -212,7 +212,7 @@ def _best_move(contours: list[OrderedContour], a: int, b: int, points: FloatArra
                     if gain > NECK_GAIN or (best is not None and gain >= best[0]):
                         continue
                     if not ((_bridged(links, rest, tree, radius, density) if straight
-                             else middle.borne_out(links, rest, tree, band, density))
+                             else middle.borne_out(links, tree, band, density))
                             and shapely.Polygon(joined).is_valid):
                         continue
                     if lines is None:
