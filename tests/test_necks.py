@@ -189,3 +189,17 @@ def test_necks_longer_than_the_nodes_are_apart_are_drawn_through_their_walls():
             assert res.validity.valid and len(res.outliers) == 0
             whole += [c.closed for c in res.contours] == [True]
     assert whole >= 11
+
+
+def test_a_fins_thin_tip_touching_another_fin_is_no_neck(shared_data):
+    # Porpi.svg at diagonal / 150 with noise eps / 8 (the validity benchmark's sampling): the
+    # lower fin's tip touches the belly fin's outline. Routed links ran along the tip's walls
+    # and cut a single edge of the belly fin's ring, which runs on past the tip: 4 closed.
+    from benchmarks.bench_validity import DIAGONAL_PER_TOLERANCE, _sample_shape
+
+    from .truth import diagonal, svg_shape
+
+    shape = svg_shape(shared_data / "curves2d" / "ground_truth_svg" / "Porpi.svg")
+    eps = diagonal(shape) / DIAGONAL_PER_TOLERANCE
+    res = wavepoly.fit(_sample_shape(shape, eps, 0), eps)
+    assert res.validity.valid and sum(c.closed for c in res.contours) >= 5

@@ -73,6 +73,10 @@ WALL_BAND = 0.35
 #: ... number at least this share of what two walls as long as the links hold, at the two
 #: rings' points per length.
 BRIDGE_SHARE = 0.5
+#: A move with routed links cuts at least this many edges of each ring, a node or more: the
+#: spike the march drew into the neck and the bulge past its mouth. A single edge is a wall
+#: that runs on, as where a fin's thin tip touches another outline (Porpi.svg).
+ROUTED_CUT = 2
 #: The gap between the rings is filled where a line across it between their cores (each
 #: ring shrunk by this many radii, taking off the spikes and bulges the march drew into the
 #: neck)...
@@ -204,7 +208,8 @@ def _best_move(contours: list[OrderedContour], a: int, b: int, points: FloatArra
                     continue
                 tries = [(ring, True)] if _across_the_gap(links, rest, radius) else []
                 joined, routes = routed(links, rest, tree, radius, band)
-                if continuous(routes, tree, radius):
+                if (min(cut_one[1], cut_two[1]) >= ROUTED_CUT
+                        and continuous(routes, tree, radius)):
                     tries.append((joined, False))
                 about = _about(links, both, tree, radius)
                 for joined, straight in tries:
