@@ -129,10 +129,11 @@ def join_through_necks(contours: list[OrderedContour], points: FloatArray, radiu
     The contours, joined rings replaced by the one ring they make: where a neck fills the
     gap between two rings (`_necked`), of the moves between their `NECK_EDGES` edges
     nearest each other (cuts of up to `CUT_EDGES` edges) whose links cross the gap
-    (`_across_the_gap`) and whose bridge holds the neck's walls (`BRIDGE_SHARE`), the one
-    that brings the points about it nearest (`NECK_GAIN`) and is a valid polygon that meets
-    no other contour and keeps every member of the two as near as its own ring did (or
-    within a radius).
+    (`_across_the_gap`) and whose bridge holds the neck's walls (`BRIDGE_SHARE`), or whose
+    links routed through the points beside them run along points with points in the middle
+    of the gap (`neck_routes`), the one that brings the points about it nearest
+    (`NECK_GAIN`) and is a valid polygon that meets no other contour and keeps every member
+    of the two as near as its own ring did (or within a radius).
     """
     out = list(contours)
     tree, stride = None, 1
@@ -207,10 +208,12 @@ def _best_move(contours: list[OrderedContour], a: int, b: int, points: FloatArra
                 if not _mouths_fit(rest, radius):
                     continue
                 tries = [(ring, True)] if _across_the_gap(links, rest, radius) else []
-                joined, routes = routed(links, rest, tree, radius, band)
-                if (min(cut_one[1], cut_two[1]) >= ROUTED_CUT
-                        and continuous(routes, tree, radius)):
-                    tries.append((joined, False))
+                if min(cut_one[1], cut_two[1]) >= ROUTED_CUT:
+                    joined, routes = routed(links, rest, tree, radius, band)
+                    if continuous(routes, tree, radius):
+                        tries.append((joined, False))
+                if not tries:
+                    continue
                 about = _about(links, both, tree, radius)
                 for joined, straight in tries:
                     gain = _gain(joined, about, radius)
