@@ -124,7 +124,6 @@ def test_an_inlet_the_body_closes_over_alone_is_no_enclosed_counter():
 def test_links_are_routed_through_the_walls_between_the_nodes():
     # a neck two radii long between nodes at its mouths' corners: the straight links pass
     # 1.5 radii from its walls; routed, they run along them
-    from scipy.spatial import cKDTree
 
     from wavepoly.ordering.neck_routes import routed
 
@@ -133,7 +132,7 @@ def test_links_are_routed_through_the_walls_between_the_nodes():
     body = np.array([[0.0, -2.0], [-5.0, -2.0], [-5.0, 2.0], [0.0, 2.0]])
     lobe = np.array([[3.0, 2.0], [8.0, 2.0], [8.0, -2.0], [3.0, -2.0]])
     links = ((body[-1], lobe[0]), (lobe[-1], body[0]))
-    ring, _ = routed(links, (body, lobe), cKDTree(walls), 1.0, 0.35)
+    ring, _ = routed(links, (body, lobe), walls, 1.0)
     top, bottom = ring[np.isclose(ring[:, 1], 0.5)], ring[np.isclose(ring[:, 1], -0.5)]
     assert len(top) + len(bottom) == len(ring) - len(body) - len(lobe)
     assert min(len(top), len(bottom)) >= 4  # about a node every half radius along each

@@ -65,22 +65,27 @@ def bridge_points(links: Links, tree: cKDTree, band: float) -> FloatArray:
     return near[shapely.contains_xy(span, near[:, 0], near[:, 1])]
 
 
-def routed(links: Links, rest: tuple[FloatArray, FloatArray], tree: cKDTree, radius: float,
-           band: float) -> tuple[FloatArray, tuple[FloatArray, FloatArray]]:
-    """The joined ring with each link routed through the points beside it: those in the
-    bridge or within ``band`` of it, farther than that from the kept paths ``rest``, nearer
-    this link than the other, their means every `ROUTE_STEP` radii along it; and the two
-    routed links, each from its start to its end."""
+def kept_clear(near: FloatArray, rest: tuple[FloatArray, FloatArray], band: float
+               ) -> FloatArray:
+    """Which of the points ``near`` lie farther than ``band`` from both kept paths ``rest``
+    (the rings' own walls, which the move keeps)."""
+    at = shapely.points(near)
+    return np.min([shapely.distance(at, shapely.linestrings(w)) for w in rest], axis=0,
+                  initial=np.inf) > band
+
+
+def routed(links: Links, rest: tuple[FloatArray, FloatArray], beside: FloatArray,
+           radius: float) -> tuple[FloatArray, tuple[FloatArray, FloatArray]]:
+    """The joined ring with each link routed through the points ``beside`` the links (those
+    of the bridge clear of the kept paths ``rest``, `kept_clear`) nearer it than the other,
+    their means every `ROUTE_STEP` radii along it; and the two routed links, each from its
+    start to its end."""
     (a0, a1), (b0, b1) = links
-    near = bridge_points(links, tree, band)
-    at = shapely.points(near)
-    near = near[np.min([shapely.distance(at, shapely.linestrings(w)) for w in rest],
-                       axis=0, initial=np.inf) > band]
-    at = shapely.points(near)
+    at = shapely.points(beside)
     to_a = shapely.distance(at, shapely.linestrings([a0, a1]))
     to_b = shapely.distance(at, shapely.linestrings([b0, b1]))
-    route_a = _route(a0, a1, near[to_a <= to_b], radius)
-    route_b = _route(b0, b1, near[to_b < to_a], radius)
+    route_a = _route(a0, a1, beside[to_a <= to_b], radius)
+    route_b = _route(b0, b1, beside[to_b < to_a], radius)
     return (np.vstack([rest[0], route_a, rest[1], route_b]),
             (np.vstack([a0, route_a, a1]), np.vstack([b0, route_b, b1])))
 
@@ -129,11 +134,10 @@ class MidGap:
         scatter = float(np.median(spread)) / MEDIAN_TO_SIGMA if len(spread) else 0.0
         self.band = max(MID_BAND * radius, MID_SIGMAS * scatter)
 
-    def borne_out(self, links: Links, tree: cKDTree, band: float, density: float) -> bool:
-        """Do the points in the bridge (or within ``band`` of it) that lie in the middle of
-        the gap number at least `MID_SHARE` of what two walls as long as the links hold at
+    def borne_out(self, links: Links, near: FloatArray, density: float) -> bool:
+        """Do the points ``near`` the bridge (`bridge_points`) that lie in the middle of the
+        gap number at least `MID_SHARE` of what two walls as long as the links hold at
         ``density`` points per length?"""
-        near = bridge_points(links, tree, band)
         if len(near) == 0:
             return False
         at = shapely.points(near)

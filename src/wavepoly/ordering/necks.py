@@ -40,7 +40,7 @@ from scipy.spatial import cKDTree
 from ..geometry import curve_line, polyline_distance, polyline_length
 from ..types import FloatArray, OrderedContour
 from .gaps import keeps_members, meets_others
-from .neck_routes import Links, MidGap, bridge_points, continuous, routed
+from .neck_routes import Links, MidGap, bridge_points, continuous, kept_clear, routed
 
 #: Two rings this many radii apart or nearer may be a lobe and the body on a neck: the march
 #: closes a lobe across a neck up to a couple of radii long.
@@ -207,9 +207,15 @@ def _best_move(contours: list[OrderedContour], a: int, b: int, points: FloatArra
             for ring, links, rest in _moves(one, cut_one, two, cut_two):
                 if not _mouths_fit(rest, radius):
                     continue
-                tries = [(ring, True)] if _across_the_gap(links, rest, radius) else []
-                if min(cut_one[1], cut_two[1]) >= ROUTED_CUT:
-                    joined, routes = routed(links, rest, tree, radius, band)
+                straight = _across_the_gap(links, rest, radius)
+                routing = min(cut_one[1], cut_two[1]) >= ROUTED_CUT
+                if not (straight or routing):
+                    continue
+                near = bridge_points(links, tree, band)
+                clear = kept_clear(near, rest, band)
+                tries = [(ring, True)] if straight else []
+                if routing:
+                    joined, routes = routed(links, rest, near[clear], radius)
                     if continuous(routes, tree, radius):
                         tries.append((joined, False))
                 if not tries:
@@ -219,8 +225,8 @@ def _best_move(contours: list[OrderedContour], a: int, b: int, points: FloatArra
                     gain = _gain(joined, about, radius)
                     if gain > NECK_GAIN or (best is not None and gain >= best[0]):
                         continue
-                    if not ((_bridged(links, rest, tree, radius, density) if straight
-                             else middle.borne_out(links, tree, band, density))
+                    if not ((_bridged(links, near[clear], band, density) if straight
+                             else middle.borne_out(links, near, density))
                             and shapely.Polygon(joined).is_valid):
                         continue
                     if lines is None:
@@ -287,20 +293,16 @@ def _sine(u: FloatArray, v: FloatArray) -> float:
     return abs(float(u[0] * v[1] - u[1] * v[0])) / norms if norms > 0 else 0.0
 
 
-def _bridged(links: Links,
-             rest: tuple[FloatArray, FloatArray], tree: cKDTree, radius: float,
-             density: float) -> bool:
-    """Does the bridge between the links hold the neck's walls: of the points inside it or
-    within `WALL_BAND` radii of its links, those farther than that from the kept paths and
-    the cuts' chords, at least `BRIDGE_SHARE` of what two walls as long as the links hold at
+def _bridged(links: Links, beside: FloatArray, band: float, density: float) -> bool:
+    """Does the bridge between the links hold the neck's walls: of its points clear of the
+    kept paths (``beside``, `neck_routes.kept_clear`), those farther than ``band`` from the
+    cuts' chords too, at least `BRIDGE_SHARE` of what two walls as long as the links hold at
     ``density`` points per length?"""
     (a0, a1), (b0, b1) = links
-    band = WALL_BAND * radius
-    near = bridge_points(links, tree, band)
-    if len(near) == 0:
+    if len(beside) == 0:
         return False
-    walls = [*rest, np.vstack([a1, b0]), np.vstack([b1, a0])]  # kept paths, cuts' chords
-    clear = np.min([polyline_distance(near, w, False) for w in walls], axis=0) > band
+    chords = [np.vstack([a1, b0]), np.vstack([b1, a0])]
+    clear = np.min([polyline_distance(beside, w, False) for w in chords], axis=0) > band
     needed = BRIDGE_SHARE * density * sum(float(np.linalg.norm(b - a)) for a, b in links)
     return bool(clear.sum() >= max(needed, 1.0))
 
