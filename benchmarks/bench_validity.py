@@ -147,7 +147,7 @@ def run() -> str:
         got = f"{n_closed}/{len(res.contours) - n_closed}"
         right = "—" if expected is None else _against_truth(expected, res, eps)
         cover = _covering_min(pts, eps) if len(pts) <= 200_000 else None
-        teeth = sum(turn_backs(c.vertices, c.closed, TOOTH_EDGE * eps) for c in res.contours)
+        teeth = _teeth(res.contours, eps)
         free = _free_space_share(res.contours, pts, eps)
         rows.append([name, len(pts), f"{eps:.4g}", got, right, len(problems) - crossing,
                      crossing, teeth, f"{100 * free:.1f} %",
@@ -394,8 +394,7 @@ def laser_sweep() -> str:
             off = sum(line.difference(near).length for line in lines)
             askew = _askew_length(res.contours, walls, eps)
             n_closed = sum(c.closed for c in res.contours)
-            teeth = sum(turn_backs(c.vertices, c.closed, TOOTH_EDGE * eps)
-                        for c in res.contours)
+            teeth = _teeth(res.contours, eps)
             rows.append([seed, f"{max_range:g} m, {beams}", len(pts), f"{eps:g}",
                          f"{n_closed}/{len(res.contours) - n_closed}",
                          len(truth.independent_problems(res)), teeth,
@@ -420,6 +419,14 @@ def laser_sweep() -> str:
             + table(["map", "scanner", "points", "ε", "closed/open", "invalid", "teeth",
                      "outliers", "off the walls", "askew", "vertices", "suggested", "seconds"],
                     rows))
+
+
+def _teeth(contours, eps: float) -> int:
+    """Vertices where a contour turns back by more than 135° between edges under
+    `TOOTH_EDGE` ε: the teeth of a zigzag through a band. A contour no wider than that (a
+    speck's ring, a chair leg's triangle on a laser map) draws no band and has none."""
+    return sum(turn_backs(c.vertices, c.closed, TOOTH_EDGE * eps) for c in contours
+               if np.ptp(c.vertices, axis=0).max() > TOOTH_EDGE * eps)
 
 
 def _askew_length(contours, walls, eps: float) -> float:

@@ -62,11 +62,14 @@ def within_output(points: np.ndarray, result, distance: float) -> np.ndarray:
 
 def teeth(result, short: float = 2.0, turn: float = 135.0) -> int:
     """Vertices where the output turns back by more than ``turn`` degrees between two edges
-    shorter than ``short`` tolerances: the teeth of a zigzag through a band of points."""
+    shorter than ``short`` tolerances: the teeth of a zigzag through a band of points. A
+    contour no wider than that (a speck's ring, a chair leg's triangle) draws no band and
+    has none (`benchmarks.bench_validity._teeth`)."""
     from wavepoly.geometry import turn_backs
 
-    return sum(turn_backs(c.vertices, c.closed, short * result.tolerance, turn)
-               for c in result.contours)
+    short *= result.tolerance
+    return sum(turn_backs(c.vertices, c.closed, short, turn) for c in result.contours
+               if np.ptp(c.vertices, axis=0).max() > short)
 
 
 def assert_rings_drawn(rings: list[np.ndarray], pts: np.ndarray, result, eps: float) -> None:

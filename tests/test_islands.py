@@ -113,3 +113,48 @@ def test_a_loop_only_scraps_drew_is_its_hull_and_a_dash_is_not():
     contours, _ = speck_contours(scraps, np.empty(0, dtype=np.intp), pts, EPS, EPS,
                                  scraps=False)
     assert contours == scraps
+
+
+def _leg(centre, rng, n=40, radius=0.02, scatter=0.004):
+    """A chair leg's returns, seen from round about: a ring of ``radius`` with scatter."""
+    t = rng.uniform(0, 2 * np.pi, n)
+    r = radius + rng.normal(0, scatter, n)
+    return np.asarray(centre) + np.column_stack([r * np.cos(t), r * np.sin(t)])
+
+
+def test_a_noisy_scans_leg_seen_from_round_about_is_its_hull():
+    """On a noisy laser map a chair's leg is a speck of returns among the outliers: it
+    becomes the ring of its hull, every point within the tolerance of it. A person seen from
+    one side (an arc), a dash of scatter, and a leg with strays of a wall within the radius
+    stay outliers."""
+    from wavepoly.ordering.islands import clutter_specks
+
+    rng = np.random.default_rng(0)
+    leg = _leg((0.0, 0.0), rng)
+    t = rng.uniform(-np.pi / 2, np.pi / 2, 40)
+    arc = np.column_stack([2 + 0.15 * np.cos(t), 0.15 * np.sin(t)])
+    dash = np.column_stack([rng.uniform(4, 4.2, 40), rng.normal(0, 0.004, 40)])
+    crowded = np.vstack([_leg((6.0, 0.0), rng), [[6.08, 0.0], [6.09, 0.02]]])
+    pts = np.vstack([leg, arc, dash, crowded])
+    outliers = np.arange(len(pts) - 2)  # the two strays belong to a wall's contour
+    rings, left = clutter_specks(outliers, pts, 0.1, 0.1)
+    assert len(rings) == 1 and rings[0].closed
+    assert np.array_equal(np.sort(rings[0].members), np.arange(len(leg)))
+    ring = shapely.LinearRing(rings[0].points)
+    assert shapely.distance(shapely.points(leg), ring).max() <= 0.1
+    assert np.array_equal(left, np.arange(len(leg), len(pts) - 2))
+
+
+def test_a_made_up_maps_chair_legs_are_rings_on_their_surfaces():
+    """Map 1 at 0.1 (`benchmarks.laser`): the legs of its chairs and tables, specks the
+    march drew as nothing or as lines to the next leg, are small rings, each on a true
+    surface; the output stays valid."""
+    from benchmarks.laser import laser_map
+
+    pts, walls = laser_map(1)
+    result = wavepoly.fit(pts, 0.1)
+    assert independent_problems(result) == [] and result.validity.valid
+    small = [c for c in result.contours
+             if c.closed and np.ptp(c.vertices, axis=0).max() < SPECK_EXTENT * 0.1]
+    assert len(small) >= 5
+    assert max(shapely.distance(walls, shapely.Polygon(c.vertices)) for c in small) <= 0.05

@@ -58,7 +58,8 @@ Python loop runs over points:
    annulus's two rings, drawn apart by the walls' offsets (`annuli`).
 5. On a noisy scan the outliers are read again: the compact strokes among them (a ghost wall
    beside a wall, the foot of a short wall meeting it) become contours clear of the first
-   ones (`strokes`).
+   ones (`strokes`), and a speck that its points surround (a chair's leg seen from round
+   about) becomes the ring of its hull (`islands.clutter_specks`).
 6. Where the radius spans only a few point spacings (a sparse sample at a coarse tolerance),
    its neighbourhoods may span both walls of a part thinner than the tolerance and measure
    them as noise. The scan is then read again at half the radius, and that reading is kept
@@ -91,7 +92,7 @@ import numpy as np
 from ..types import FloatArray, Ordering
 from ..validate import check_tolerance, validate_points
 from .contours import CORNER_GAP, CORNER_NOISE, clean_scan, contours_of
-from .islands import island_contours, speck_contours
+from .islands import clutter_specks, island_contours, speck_contours
 from .joining import CLOSING_SUPPORT, Support
 from .marching import (
     chains_of,
@@ -293,7 +294,8 @@ def _read(pts: FloatArray, radius: float, given: float, seed: int, min_points: i
         reread = partial(_read, radius=radius, given=given, seed=seed, min_points=min_points,
                          notes=(), spacing=0.0, tolerance=None, sparse=True, again=True)
         strokes, outliers = stroke_contours(pts, outliers, contours, radius, given, reread)
-        contours += strokes
+        specks, outliers = clutter_specks(outliers, pts, radius, given)
+        contours += strokes + specks
     return Ordering(contours, outliers, radius, merged, tuple(notes), nodes.noise, scatter,
                     middle, clean, per_radius)
 

@@ -14,7 +14,10 @@ scan: on a noisy laser map such groups are clutter (Freiburg at 0.1 would gain 1
 
 A speck, smaller still and clear of other points, is a closed contour too: its points' hull
 (`speck_contours`). The march drew such specks as scraps of lines, slivers, or lines to the
-next speck a few tolerances away, and left most of their points out.
+next speck a few tolerances away, and left most of their points out. On a noisy laser map,
+a speck among the outliers that its points surround (a chair's or a table's leg, seen from
+round about) is its hull too (`clutter_specks`); one seen from one side (an arc, a person
+standing by) or a dash of scatter is left out.
 """
 
 from __future__ import annotations
@@ -94,9 +97,7 @@ def speck_contours(contours: list[OrderedContour], outliers: IntArray, pts: Floa
         return contours, outliers
     label = point_clusters(pts[cand], radius)  # groups among the outliers and small contours
     size = np.bincount(label)
-    within = cKDTree(pts).query_ball_point(pts[cand], radius, return_length=True)
-    own = cKDTree(pts[cand]).query_ball_point(pts[cand], radius, return_length=True)
-    clear = np.bincount(label, weights=within > own, minlength=len(size)) == 0
+    clear = _clear_groups(pts[cand], label, pts, radius)
     extent = group_extents(pts[cand], label)
     undrawn = np.bincount(label[np.searchsorted(cand, outliers)], minlength=len(size)) == size
     owner = {k: np.unique(label[np.searchsorted(cand, contours[k].members)]) for k in small}
@@ -126,6 +127,47 @@ def speck_contours(contours: list[OrderedContour], outliers: IntArray, pts: Floa
     kept = [c for k, c in enumerate(contours) if k not in gone]
     taken = np.concatenate([c.members for c in found.values()])
     return kept + list(found.values()), np.setdiff1d(outliers, taken)
+
+
+def clutter_specks(outliers: IntArray, pts: FloatArray, radius: float, tolerance: float
+                   ) -> tuple[list[OrderedContour], IntArray]:
+    """On a noisy scan, the rings of the specks among ``outliers`` and the outliers left.
+
+    A speck is a group of at least `ISLAND_POINTS` outliers (each within ``radius`` of
+    another), clear of every other point by ``radius``, under `SPECK_EXTENT` ``tolerance`` s
+    across, whose points at least `RIM` times their median distance from its centre surround
+    it (`_surrounds`): a leg of a chair or a table, or a pillar, that the scanner saw from
+    round about. Its ring is its convex hull, where every point lies within a tolerance of
+    the hull's outline. An arc seen from one side, or a dash of scatter beside a wall, is
+    left out: its hull is a sliver, no obstacle's outline.
+    """
+    if len(outliers) < ISLAND_POINTS:
+        return [], outliers
+    xy = pts[outliers]
+    label = point_clusters(xy, radius)
+    size = np.bincount(label)
+    clear = _clear_groups(xy, label, pts, radius)
+    small = group_extents(xy, label) < SPECK_EXTENT * tolerance
+    found = []
+    for g in np.flatnonzero(clear & small & (size >= ISLAND_POINTS)):
+        members = np.flatnonzero(label == g)
+        if not _surrounds(*_about_centre(xy[members]), RIM):
+            continue
+        ring = _hull_ring(xy[members], tolerance)
+        if ring is not None:
+            found.append(OrderedContour(ring, True, outliers[members]))
+    if not found:
+        return [], outliers
+    return found, np.setdiff1d(outliers, np.concatenate([c.members for c in found]))
+
+
+def _clear_groups(xy: FloatArray, label: IntArray, pts: FloatArray, radius: float
+                  ) -> np.ndarray:
+    """Whether each group of ``xy`` (by ``label``) is clear of the other ``pts`` by
+    ``radius``: no point of it has a point within the radius that is not in ``xy``."""
+    within = cKDTree(pts).query_ball_point(xy, radius, return_length=True)
+    own = cKDTree(xy).query_ball_point(xy, radius, return_length=True)
+    return np.bincount(label, weights=within > own, minlength=label.max() + 1) == 0
 
 
 def _hull_ring(group: FloatArray, tolerance: float) -> FloatArray | None:
