@@ -138,8 +138,9 @@ def clutter_specks(outliers: IntArray, pts: FloatArray, radius: float, tolerance
     across, whose points at least `RIM` times their median distance from its centre surround
     it (`_surrounds`): a leg of a chair or a table, or a pillar, that the scanner saw from
     round about. Its ring is its convex hull, where every point lies within a tolerance of
-    the hull's outline. An arc seen from one side, or a dash of scatter beside a wall, is
-    left out: its hull is a sliver, no obstacle's outline.
+    the hull's outline. An arc seen from one side (a person standing by), or a dash of
+    scatter beside a wall, does not surround its centre and is left out: its hull would be a
+    sliver, no obstacle's outline.
     """
     if len(outliers) < ISLAND_POINTS:
         return [], outliers
