@@ -146,14 +146,17 @@ def clutter_specks(outliers: IntArray, pts: FloatArray, radius: float, tolerance
         return [], outliers
     xy = pts[outliers]
     label = point_clusters(xy, radius)
-    size = np.bincount(label)
-    clear = _clear_groups(xy, label, pts, radius)
-    small = group_extents(xy, label) < SPECK_EXTENT * tolerance
+    small = (group_extents(xy, label) < SPECK_EXTENT * tolerance) & (
+        np.bincount(label) >= ISLAND_POINTS)
+    groups = [m for m in (np.flatnonzero(label == g) for g in np.flatnonzero(small))
+              if _surrounds(*_about_centre(xy[m]), RIM)]
+    if not groups:  # the clearance needs a tree of every point: only for groups that count
+        return [], outliers
+    # outliers within the radius of a group are in it, so the groups' own points suffice
+    own_label = np.repeat(np.arange(len(groups)), [len(m) for m in groups])
+    clear = _clear_groups(xy[np.concatenate(groups)], own_label, pts, radius)
     found = []
-    for g in np.flatnonzero(clear & small & (size >= ISLAND_POINTS)):
-        members = np.flatnonzero(label == g)
-        if not _surrounds(*_about_centre(xy[members]), RIM):
-            continue
+    for members in (m for m, ok in zip(groups, clear) if ok):
         ring = _hull_ring(xy[members], tolerance)
         if ring is not None:
             found.append(OrderedContour(ring, True, outliers[members]))
